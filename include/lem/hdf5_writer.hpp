@@ -1,0 +1,65 @@
+// Parallel HDF5 output of lattice fields, with an XDMF file beside it that
+// ParaView opens (nodes as a point cloud, bonds as two-node polylines).
+//
+// Every rank passes the contiguous slice it owns; global offsets are computed
+// here.  The file is written under a temporary name and renamed into place
+// only after every rank has finished, so an interrupted run never leaves a
+// file that looks complete.
+#pragma once
+
+#include <mpi.h>
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace lem {
+
+/// Who/what/when produced a file; stored as attributes of the root group.
+struct Provenance {
+  std::string program;      // driver name
+  std::string version;      // project version
+  std::string git_hash;     // source revision
+  std::string options;      // the whole PETSc options database, one option per line
+  std::string start_time;   // ISO 8601, UTC
+  int ranks = 1;
+};
+Provenance collect_provenance(MPI_Comm comm, const std::string& program);
+
+/// A named per-item field with `components` values per item (1 or 3).
+struct Field {
+  std::string name;
+  int components = 1;
+  std::vector<double> values;  // size = local item count * components
+};
+
+/// Nodes owned by this rank (a contiguous block of the global numbering).
+struct NodeSlice {
+  std::vector<std::array<double, 3>> coords;
+  std::vector<std::int64_t> ids;  // partition-independent node ids
+  std::vector<Field> fields;      // e.g. "displacement" (3), "pinned" (1)
+};
+
+/// Bonds reported by this rank (each bond by exactly one rank).
+struct BondSlice {
+  /// End nodes as row numbers of the node datasets of the same file
+  /// (i.e. the global numbering in which the NodeSlices are contiguous).
+  std::vector<std::array<std::int64_t, 2>> ends;
+  std::vector<std::int64_t> ids;  // partition-independent bond ids
+  std::vector<Field> fields;      // e.g. "force", "stiffness"
+};
+
+/// Write <stem>.h5 and <stem>.xmf collectively.  Layout:
+///   /nodes/coordinates (N x 3), /nodes/id (N), /nodes/<field> (N or N x 3)
+///   /bonds/connectivity (M x 2, int64), /bonds/id (M), /bonds/<field>
+///   root attributes: provenance strings, plus `scalars` as double attributes.
+void write_lattice_fields(MPI_Comm comm, const std::string& stem, const NodeSlice& nodes,
+                          const BondSlice& bonds, const Provenance& provenance,
+                          const std::vector<std::pair<std::string, double>>& scalars);
+
+/// Write `path` from text held on rank 0 only: via a temporary file and an
+/// atomic rename, so a killed run leaves no half-written result.
+void write_text_file_atomically(const std::string& path, const std::string& text);
+
+}  // namespace lem

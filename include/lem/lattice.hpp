@@ -1,0 +1,100 @@
+// Lattice stage: node coordinates and the bond list, built on one rank.
+//
+// A Lattice is plain data.  Bonds are unique pairs (i < j) sorted
+// lexicographically; a bond's index in that list is its global id, which never
+// depends on how the lattice is later partitioned.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace lem {
+
+using Point = std::array<double, 3>;
+
+struct Box {
+  Point lo{0.0, 0.0, 0.0};
+  Point hi{1.0, 1.0, 1.0};
+  double length(int axis) const { return hi[axis] - lo[axis]; }
+  double volume() const { return length(0) * length(1) * length(2); }
+};
+
+struct Bond {
+  std::int32_t i, j;  // node indices, i < j
+  friend bool operator<(const Bond& a, const Bond& b) {
+    return a.i < b.i || (a.i == b.i && a.j < b.j);
+  }
+  friend bool operator==(const Bond& a, const Bond& b) { return a.i == b.i && a.j == b.j; }
+};
+
+struct Lattice {
+  Box box;
+  std::vector<Point> nodes;
+  std::vector<Bond> bonds;       // sorted, unique, i < j
+  std::vector<double> stiffness; // Hooke constant k of each bond (absolute units)
+
+  std::size_t node_count() const { return nodes.size(); }
+  std::size_t bond_count() const { return bonds.size(); }
+  double bond_length(std::size_t b) const;
+};
+
+struct LatticeStats {
+  std::int64_t nodes = 0, bonds = 0;
+  double mean_length = 0, min_length = 0, max_length = 0, std_length = 0;
+  double mean_coordination = 0;   // 2 * bonds / nodes
+  double mesh_density = 0;        // L_n = M^(-1/3), M = number of bonds (paper sect. 3)
+};
+LatticeStats lattice_stats(const Lattice& lattice);
+
+/// Size of a random lattice: exactly one of the three is used, in this order
+/// of precedence: nodes, bonds, mesh density L_n = M^(-1/3).
+struct RandomLatticeSpec {
+  Box box;
+  std::int64_t nodes = 0;
+  std::int64_t bonds = 0;
+  double mesh_density = 0;
+  /// Minimum node separation as a fraction of the mean spacing (V/N)^(1/3).
+  double min_separation = 0.5;
+  std::uint64_t seed = 1;
+  double stiffness = 1.0;  // k of every bond
+};
+
+/// Nodes needed for a target bond count (random Delaunay lattices with a
+/// minimum separation have about 6.6 bonds per node in the bulk).
+std::int64_t nodes_for_bond_count(std::int64_t bonds);
+
+/// Random points with a minimum separation, including points on the six faces,
+/// the twelve edges and the eight corners of the box (so that the loaded faces
+/// are flat), joined by the edges of their Delaunay tetrahedralisation (CGAL).
+Lattice make_random_lattice(const RandomLatticeSpec& spec);
+
+/// Face-centred-cubic nearest-neighbour spring lattice of `cells` cubic unit
+/// cells per axis, bond length `a`, Hooke constant `k`.  Bonds lying in a face
+/// of the block get k/2 and bonds along an edge k/4: the block is then exactly
+/// a share of the infinite lattice, and a homogeneous strain is an exact
+/// equilibrium even with free faces (see docs/theory.md).
+Lattice make_fcc_lattice(std::array<int, 3> cells, double a, double k);
+
+/// Bit flags of the box faces a node lies on (within tol * shortest side).
+enum Face : std::uint8_t {
+  kXmin = 1, kXmax = 2, kYmin = 4, kYmax = 8, kZmin = 16, kZmax = 32
+};
+std::vector<std::uint8_t> face_flags(const Lattice& lattice, double tol = 1e-9);
+
+}  // namespace lem
+
+namespace lem {
+
+/// Affine (Voigt) estimate of the elastic moduli: every bond follows the
+/// macroscopic strain, C_ijkl = (1/V) sum_b k L^2 n_i n_j n_k n_l.  Exact for
+/// lattices where each node is a centre of symmetry (FCC), an upper bound
+/// otherwise.  Voigt order xx, yy, zz, yz, xz, xy.
+struct AffineModuli {
+  double C[6][6] = {};
+  double young_z = 0;    // 1 / S_zzzz, S = C^-1
+  double poisson_z = 0;  // -(S_xxzz + S_yyzz) / (2 S_zzzz)
+};
+AffineModuli affine_moduli(const Lattice& lattice);
+
+}  // namespace lem

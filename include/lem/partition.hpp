@@ -1,0 +1,29 @@
+// Partition of the nodes over MPI ranks (METIS k-way on the bond graph) and a
+// new global numbering in which every rank owns a contiguous block, ordered
+// along a Morton (Z-order) curve inside each block for memory locality.
+#pragma once
+
+#include "lem/lattice.hpp"
+
+#include <cstdint>
+#include <vector>
+
+namespace lem {
+
+struct Partition {
+  int parts = 1;
+  std::vector<int> owner;                 // rank owning each node (lattice numbering)
+  std::vector<std::int64_t> new_index;    // lattice numbering -> distributed numbering
+  std::vector<std::int64_t> offsets;      // block of rank r: [offsets[r], offsets[r+1])
+  std::int64_t edge_cut = 0;              // bonds joining two ranks
+};
+
+/// `bond_active` selects the bonds of the graph (empty = all).
+/// `morton` = false keeps the METIS order inside a block (for benchmarks).
+Partition partition_lattice(const Lattice& lattice, const std::vector<char>& bond_active,
+                            int parts, bool morton = true);
+
+/// 63-bit Morton code of a point of the box (21 bits per axis).
+std::uint64_t morton_code(const Point& p, const Box& box);
+
+}  // namespace lem

@@ -1,0 +1,74 @@
+#include "lem/summary.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+namespace lem {
+namespace {
+
+std::string number(double v) {
+  if (!std::isfinite(v)) return "null";
+  char buffer[32];
+  std::snprintf(buffer, sizeof(buffer), "%.10g", v);
+  return buffer;
+}
+
+std::string quoted(const std::string& s) {
+  std::string out = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') out += '\\';
+    if (c == '\n') {
+      out += "\\n";
+      continue;
+    }
+    out += c;
+  }
+  return out + "\"";
+}
+
+std::string text(const Summary::Value& v, bool json) {
+  if (const auto* d = std::get_if<double>(&v)) return number(*d);
+  if (const auto* i = std::get_if<long long>(&v)) return std::to_string(*i);
+  const auto& s = std::get<std::string>(v);
+  return json ? quoted(s) : (s.find_first_of(",\"\n") == std::string::npos ? s : quoted(s));
+}
+
+}  // namespace
+
+void Summary::add(const std::string& name, Value value, const std::string& unit) {
+  entries_.push_back({name, unit, std::move(value)});
+}
+
+std::string Summary::json() const {
+  std::ostringstream out;
+  out << "{\n";
+  for (std::size_t k = 0; k < entries_.size(); ++k)
+    out << "  " << quoted(entries_[k].name) << ": " << text(entries_[k].value, true)
+        << (k + 1 < entries_.size() ? ",\n" : "\n");
+  out << "}\n";
+  return out.str();
+}
+
+std::string Summary::csv() const {
+  std::ostringstream head, row;
+  for (std::size_t k = 0; k < entries_.size(); ++k) {
+    const char* sep = k ? "," : "";
+    head << sep << entries_[k].name;
+    if (!entries_[k].unit.empty()) head << '[' << entries_[k].unit << ']';
+    row << sep << text(entries_[k].value, false);
+  }
+  return head.str() + "\n" + row.str() + "\n";
+}
+
+std::vector<std::pair<std::string, double>> Summary::numbers() const {
+  std::vector<std::pair<std::string, double>> out;
+  for (const auto& e : entries_) {
+    if (const auto* d = std::get_if<double>(&e.value)) out.emplace_back(e.name, *d);
+    if (const auto* i = std::get_if<long long>(&e.value))
+      out.emplace_back(e.name, static_cast<double>(*i));
+  }
+  return out;
+}
+
+}  // namespace lem

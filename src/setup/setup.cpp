@@ -1,0 +1,115 @@
+#include "lem/setup.hpp"
+
+#include "lem/error.hpp"
+#include "lem/options.hpp"
+#include "lem/partition.hpp"
+#include "lem/tension.hpp"
+
+#include <cstring>
+
+namespace lem {
+
+SampleOptions read_sample_options(MPI_Comm comm) {
+  SampleOptions o;
+  {
+    OptionGroup g(comm, "Lattice");
+    o.lattice_type = g.choice("-lattice_type", "Lattice geometry", {"random", "fcc"}, "random");
+    const auto box = g.positive_reals("-lattice_box", "Box side lengths Lx,Ly,Lz", {1.0, 1.0, 1.0});
+    for (int a = 0; a < 3; ++a) o.random.box.hi[a] = box[a];
+    o.random.nodes = g.integer("-lattice_nodes", "Number of nodes of the random lattice (0: use "
+                               "-lattice_bonds or -lattice_Ln)", 0, 0, 200'000'000);
+    o.random.bonds = g.integer("-lattice_bonds", "Approximate number of bonds M (0: use "
+                               "-lattice_nodes or -lattice_Ln)", 0, 0, 2'000'000'000);
+    o.random.mesh_density = g.real("-lattice_Ln", "Mesh density L_n = M^(-1/3) (0: unused)", 0.0,
+                                   0.0, 0.5);
+    if (o.random.nodes == 0 && o.random.bonds == 0 && o.random.mesh_density == 0)
+      o.random.nodes = 20000;
+    o.random.min_separation = g.real("-lattice_min_separation", "Minimum node distance as a "
+                                     "fraction of the mean spacing", 0.5, 0.0, 0.8);
+    o.random.seed = static_cast<std::uint64_t>(
+        g.integer("-lattice_seed", "Random seed of the node positions", 1, 0, PETSC_MAX_INT));
+    o.random.stiffness = g.real("-lattice_k", "Hooke constant k of the bonds", 1.0, 0.0, 1e300, true);
+    const int cells = static_cast<int>(g.integer("-fcc_cells", "FCC lattice: unit cells per axis",
+                                                 4, 1, 400));
+    o.fcc_cells = {cells, cells, cells};
+  }
+  {
+    OptionGroup g(comm, "Inclusions (two-phase samples)");
+    o.inclusion_type = g.choice("-inclusion_type", "Spherical inclusions", {"none", "stiff", "pore"},
+                                "none");
+    o.inclusions.volume_fraction = g.real("-inclusion_fraction", "Volume fraction of inclusions",
+                                          0.2, 0.0, 0.35, true);
+    o.inclusions.radius = g.real("-inclusion_radius", "Inclusion radius / smallest box side", 0.1,
+                                 0.0, 0.5, true, true);
+    o.inclusions.seed = static_cast<std::uint64_t>(
+        g.integer("-inclusion_seed", "Random seed of the inclusion centres", 7, 0, PETSC_MAX_INT));
+    o.inclusion_stiffness_ratio = g.real("-inclusion_stiffness_ratio", "k inside stiff inclusions "
+                                         "/ k of the matrix", 10.0, 0.0, 1e6, true);
+  }
+  return o;
+}
+
+Lattice build_sample(const SampleOptions& o, SampleInfo& info) {
+  Lattice lattice;
+  if (o.lattice_type == "fcc") {
+    // Bond length a = 1 (the cube side is sqrt 2).
+    lattice = make_fcc_lattice(o.fcc_cells, 1.0, o.random.stiffness);
+  } else {
+    lattice = make_random_lattice(o.random);
+  }
+  info.stats = lattice_stats(lattice);
+  if (o.inclusion_type != "none") {
+    const Inclusions inc = place_inclusions(lattice.box, o.inclusions);
+    info.inclusion_fraction = inc.volume_fraction();
+    info.inclusion_node_fraction = node_fraction_inside(lattice, inc);
+    info.inclusion_count = static_cast<std::int64_t>(inc.centres.size());
+    if (o.inclusion_type == "stiff")
+      stiffen_inclusions(lattice, inc, o.inclusion_stiffness_ratio);
+    else
+      carve_pores(lattice, inc);
+  }
+  info.affine = affine_moduli(lattice);
+  return lattice;
+}
+
+DistributedLattice setup_tension_lattice(MPI_Comm comm,
+                                         const std::function<Lattice(SampleInfo&)>& build,
+                                         SetupReport& report, bool morton) {
+  int size = 1;
+  MPI_Comm_size(comm, &size);
+  Lattice lattice;
+  TensionConstraints constraints;
+  Partition partition;
+  std::vector<std::uint8_t> faces;
+  run_on_root(comm, [&] {
+    double t = MPI_Wtime();
+    lattice = build(report.sample);
+    report.seconds_build = MPI_Wtime() - t;
+    t = MPI_Wtime();
+    faces = face_flags(lattice);
+    constraints = make_tension_constraints(lattice, faces);
+    report.seconds_constraints = MPI_Wtime() - t;
+    t = MPI_Wtime();
+    partition = partition_lattice(lattice, constraints.bond_active, size, morton);
+    report.seconds_partition = MPI_Wtime() - t;
+    report.pruned_bonds = constraints.pruned_bonds;
+    report.pinned_nodes = constraints.pinned_nodes;
+    report.bottom_nodes = constraints.bottom_nodes;
+    report.top_nodes = constraints.top_nodes;
+    report.edge_cut = partition.edge_cut;
+  });
+  const double t = MPI_Wtime();
+  DistributedLattice dl = distribute_lattice(comm, lattice, constraints, partition, faces);
+  report.active_bonds = dl.global_bonds;
+  // Free the root's copies before anything else is allocated.
+  lattice = Lattice{};
+  constraints = TensionConstraints{};
+  partition = Partition{};
+  report.seconds_distribute = MPI_Wtime() - t;
+  // SetupReport is trivially copyable: share the root's values.
+  static_assert(std::is_trivially_copyable_v<SetupReport>);
+  MPI_Bcast(&report, sizeof(report), MPI_BYTE, 0, comm);
+  return dl;
+}
+
+}  // namespace lem

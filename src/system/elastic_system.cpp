@@ -1,0 +1,366 @@
+#include "lem/elastic_system.hpp"
+
+#include "lem/error.hpp"
+
+#include <cmath>
+#include <string>
+
+namespace lem {
+namespace {
+
+struct Stages {
+  PetscLogStage assembly, pc_setup, solve;
+};
+
+const Stages& log_stages() {
+  static Stages stages = [] {
+    Stages s{};
+    PetscLogStageRegister("Assembly", &s.assembly);
+    PetscLogStageRegister("PC setup", &s.pc_setup);
+    PetscLogStageRegister("Solve", &s.solve);
+    return s;
+  }();
+  return stages;
+}
+
+// Solver defaults measured on this problem (docs/performance.md); any of them
+// can be overridden from the command line or an options file.
+void set_default_option(const char* name, const char* value) {
+  PetscBool set = PETSC_FALSE;
+  LEM_PETSC(PetscOptionsHasName(nullptr, nullptr, name, &set));
+  if (set) return;
+  LEM_PETSC(PetscOptionsSetValue(nullptr, name, value));
+  // Mark it used: a default that the chosen solver ignores is not a user typo.
+  LEM_PETSC(PetscOptionsHasName(nullptr, nullptr, name, &set));
+}
+
+bool fixed(std::uint8_t flags, int component) { return flags & (1u << component); }
+
+}  // namespace
+
+ElasticSystem::ElasticSystem(DistributedLattice& lattice) : lattice_(lattice) {
+  const Stages& stages = log_stages();
+  LEM_PETSC(PetscLogStagePush(stages.assembly));
+  const MPI_Comm comm = lattice_.comm;
+  const int owned = lattice_.owned;
+
+  // Ghosted displacement vector: owned dofs, then those of the ghost nodes.
+  std::vector<PetscInt> ghosts(lattice_.global_index.begin() + owned,
+                               lattice_.global_index.end());
+  LEM_PETSC(VecCreateGhostBlock(comm, 3, 3 * owned, PETSC_DECIDE,
+                                static_cast<PetscInt>(ghosts.size()), ghosts.data(), &u_));
+  LEM_PETSC(VecDuplicate(u_, &b_));
+
+  // Exact block preallocation: the diagonal block plus one block per bond.
+  std::vector<PetscInt> diag(owned, 1), off(owned, 0);
+  double k_sum = 0;
+  std::vector<char> has_bond(owned, 0);
+  for (int b = 0; b < lattice_.local_bonds(); ++b) {
+    const auto [p, q] = lattice_.bond_ends[b];
+    for (int e = 0; e < 2; ++e) {
+      const int me = e ? q : p, other = e ? p : q;
+      if (me >= owned) continue;
+      (other < owned ? diag : off)[me] += 1;
+      k_sum += lattice_.bond_stiffness[b];
+      has_bond[me] = 1;
+    }
+  }
+  LEM_PETSC(MatCreate(comm, &K_));
+  LEM_PETSC(MatSetSizes(K_, 3 * owned, 3 * owned, PETSC_DETERMINE, PETSC_DETERMINE));
+  LEM_PETSC(MatSetBlockSize(K_, 3));
+  LEM_PETSC(MatSetType(K_, MATAIJ));
+  set_default_option("-mat_no_inode", "true");
+  LEM_PETSC(MatSetFromOptions(K_));
+  LEM_PETSC(MatXAIJSetPreallocation(K_, 3, diag.data(), off.data(), nullptr, nullptr));
+  LEM_PETSC(MatSetOption(K_, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
+  LEM_PETSC(MatSetOption(K_, MAT_SYMMETRIC, PETSC_TRUE));
+  LEM_PETSC(MatSetOption(K_, MAT_SYMMETRY_ETERNAL, PETSC_TRUE));
+
+  // Constrained rows get a typical diagonal value so that they do not spoil
+  // the conditioning: the mean of k over a node's bonds times 1 (trace/3 of
+  // sum k n n^T is sum k / 3 per node, i.e. about 2.3 k for 7 bonds).
+  double sums[2] = {k_sum, 0};
+  for (char h : has_bond) sums[1] += h;
+  double totals[2];
+  MPI_Allreduce(sums, totals, 2, MPI_DOUBLE, MPI_SUM, comm);
+  diagonal_scale_ = totals[1] > 0 ? totals[0] / (3.0 * totals[1]) : 1.0;
+
+  // Rigid-body modes as the near null space of the multigrid preconditioner.
+  Vec coords;
+  LEM_PETSC(VecCreateMPI(comm, 3 * owned, PETSC_DETERMINE, &coords));
+  LEM_PETSC(VecSetBlockSize(coords, 3));
+  PetscScalar* c = nullptr;
+  LEM_PETSC(VecGetArray(coords, &c));
+  for (int n = 0; n < owned; ++n)
+    for (int a = 0; a < 3; ++a) c[3 * n + a] = lattice_.coords[n][a];
+  LEM_PETSC(VecRestoreArray(coords, &c));
+  MatNullSpace rigid;
+  LEM_PETSC(MatNullSpaceCreateRigidBody(coords, &rigid));
+  LEM_PETSC(MatSetNearNullSpace(K_, rigid));
+  LEM_PETSC(MatNullSpaceDestroy(&rigid));
+  LEM_PETSC(VecDestroy(&coords));
+
+  set_default_option("-ksp_type", "cg");
+  set_default_option("-pc_type", "gamg");
+  set_default_option("-pc_gamg_agg_nsmooths", "0");
+  set_default_option("-pc_mg_cycle_type", "w");
+  set_default_option("-ksp_rtol", "1e-8");
+  LEM_PETSC(KSPCreate(comm, &ksp_));
+  LEM_PETSC(KSPSetOperators(ksp_, K_, K_));
+  LEM_PETSC(KSPSetInitialGuessNonzero(ksp_, PETSC_TRUE));
+  LEM_PETSC(KSPSetFromOptions(ksp_));
+  LEM_PETSC(PetscLogStagePop());
+}
+
+ElasticSystem::~ElasticSystem() {
+  KSPDestroy(&ksp_);
+  MatDestroy(&K_);
+  VecDestroy(&u_);
+  VecDestroy(&b_);
+}
+
+void ElasticSystem::add_bond_block(int bond, double k_change) {
+  const auto [p, q] = lattice_.bond_ends[bond];
+  const Point& x = lattice_.coords[p];
+  const Point& y = lattice_.coords[q];
+  double n[3] = {y[0] - x[0], y[1] - x[1], y[2] - x[2]};
+  const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  for (double& v : n) v /= length;
+  for (int e = 0; e < 2; ++e) {
+    const int me = e ? q : p, other = e ? p : q;
+    if (me >= lattice_.owned) continue;
+    const PetscInt row = static_cast<PetscInt>(lattice_.global_index[me]);
+    const PetscInt cols[2] = {row, static_cast<PetscInt>(lattice_.global_index[other])};
+    const std::uint8_t fr = lattice_.dof_flags[me], fo = lattice_.dof_flags[other];
+    PetscScalar values[3 * 6];  // row-major: 3 rows, 6 columns
+    for (int a = 0; a < 3; ++a)
+      for (int c = 0; c < 3; ++c) {
+        const double k = k_change * n[a] * n[c];
+        const bool row_fixed = fixed(fr, a);
+        values[a * 6 + c] = (row_fixed || fixed(fr, c)) ? 0.0 : k;
+        values[a * 6 + 3 + c] = (row_fixed || fixed(fo, c)) ? 0.0 : -k;
+      }
+    LEM_PETSC(MatSetValuesBlocked(K_, 1, &row, 2, cols, values, ADD_VALUES));
+  }
+}
+
+void ElasticSystem::assemble() {
+  LEM_PETSC(PetscLogStagePush(log_stages().assembly));
+  LEM_PETSC(MatZeroEntries(K_));
+  for (int b = 0; b < lattice_.local_bonds(); ++b) add_bond_block(b, lattice_.bond_stiffness[b]);
+  for (int n = 0; n < lattice_.owned; ++n) {
+    const std::uint8_t f = lattice_.dof_flags[n];
+    PetscScalar block[9] = {};
+    for (int a = 0; a < 3; ++a) block[4 * a] = fixed(f, a) ? diagonal_scale_ : 0.0;
+    const PetscInt row = static_cast<PetscInt>(lattice_.global_index[n]);
+    // Always touch the diagonal block so that it is part of the pattern.
+    LEM_PETSC(MatSetValuesBlocked(K_, 1, &row, 1, &row, block, ADD_VALUES));
+  }
+  LEM_PETSC(MatAssemblyBegin(K_, MAT_FINAL_ASSEMBLY));
+  LEM_PETSC(MatAssemblyEnd(K_, MAT_FINAL_ASSEMBLY));
+  operator_changed_ = true;
+  LEM_PETSC(PetscLogStagePop());
+}
+
+void ElasticSystem::set_bond_stiffness(int local_bond, double k) {
+  const double change = k - lattice_.bond_stiffness[local_bond];
+  lattice_.bond_stiffness[local_bond] = k;
+  if (change != 0.0) add_bond_block(local_bond, change);
+}
+
+void ElasticSystem::finish_updates() {
+  LEM_PETSC(MatAssemblyBegin(K_, MAT_FINAL_ASSEMBLY));
+  LEM_PETSC(MatAssemblyEnd(K_, MAT_FINAL_ASSEMBLY));
+  operator_changed_ = true;
+}
+
+void ElasticSystem::assemble_rhs(double top_displacement) {
+  // b = -K_fc u_c on free rows, scale * u_c on constrained rows.
+  auto prescribed = [&](int node, int a) {
+    return (a == 2 && (lattice_.dof_flags[node] & kLoadedTop)) ? top_displacement : 0.0;
+  };
+  LEM_PETSC(VecZeroEntries(b_));
+  PetscScalar* rhs = nullptr;
+  LEM_PETSC(VecGetArray(b_, &rhs));
+  for (int b = 0; b < lattice_.local_bonds(); ++b) {
+    const auto [p, q] = lattice_.bond_ends[b];
+    const Point& x = lattice_.coords[p];
+    const Point& y = lattice_.coords[q];
+    double n[3] = {y[0] - x[0], y[1] - x[1], y[2] - x[2]};
+    const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    for (double& v : n) v /= length;
+    const double k = lattice_.bond_stiffness[b];
+    for (int e = 0; e < 2; ++e) {
+      const int me = e ? q : p, other = e ? p : q;
+      if (me >= lattice_.owned) continue;
+      const std::uint8_t fr = lattice_.dof_flags[me], fo = lattice_.dof_flags[other];
+      // Relative prescribed displacement seen by this bond along n.
+      double stretch = 0;
+      for (int c = 0; c < 3; ++c) {
+        if (fixed(fr, c)) stretch -= n[c] * prescribed(me, c);
+        if (fixed(fo, c)) stretch += n[c] * prescribed(other, c);
+      }
+      if (stretch == 0.0) continue;
+      for (int a = 0; a < 3; ++a)
+        if (!fixed(fr, a)) rhs[3 * me + a] += k * n[a] * stretch;
+    }
+  }
+  for (int n = 0; n < lattice_.owned; ++n)
+    for (int a = 0; a < 3; ++a)
+      if (fixed(lattice_.dof_flags[n], a)) rhs[3 * n + a] = diagonal_scale_ * prescribed(n, a);
+  LEM_PETSC(VecRestoreArray(b_, &rhs));
+}
+
+SolveReport ElasticSystem::solve(double top_displacement) {
+  const Stages& stages = log_stages();
+  assemble_rhs(top_displacement);
+
+  // Initial guess: the previous solution scaled to the new load, or the
+  // affine stretch for the first solve; constrained values set exactly.
+  PetscScalar* u = nullptr;
+  LEM_PETSC(VecGetArray(u_, &u));
+  const double zlo = lattice_.box.lo[2], height = lattice_.box.length(2);
+  const bool first = current_displacement_ == 0.0;
+  const double scale = first ? 0.0 : top_displacement / current_displacement_;
+  for (int n = 0; n < lattice_.owned; ++n) {
+    const std::uint8_t f = lattice_.dof_flags[n];
+    for (int a = 0; a < 3; ++a) {
+      double& v = u[3 * n + a];
+      if (fixed(f, a))
+        v = (a == 2 && (f & kLoadedTop)) ? top_displacement : 0.0;
+      else if (first)
+        v = a == 2 ? top_displacement * (lattice_.coords[n][2] - zlo) / height : 0.0;
+      else
+        v *= scale;
+    }
+  }
+  LEM_PETSC(VecRestoreArray(u_, &u));
+
+  SolveReport report;
+  double t0 = MPI_Wtime();
+  LEM_PETSC(PetscLogStagePush(stages.pc_setup));
+  LEM_PETSC(KSPSetUp(ksp_));
+  LEM_PETSC(PetscLogStagePop());
+  report.setup_seconds = MPI_Wtime() - t0;
+  t0 = MPI_Wtime();
+  LEM_PETSC(PetscLogStagePush(stages.solve));
+  LEM_PETSC(KSPSolve(ksp_, b_, u_));
+  LEM_PETSC(PetscLogStagePop());
+  report.solve_seconds = MPI_Wtime() - t0;
+  PetscInt its = 0;
+  PetscReal rnorm = 0;
+  LEM_PETSC(KSPGetIterationNumber(ksp_, &its));
+  LEM_PETSC(KSPGetResidualNorm(ksp_, &rnorm));
+  LEM_PETSC(KSPGetConvergedReason(ksp_, &report.reason));
+  report.iterations = static_cast<int>(its);
+  report.residual_norm = rnorm;
+  if (report.reason < 0 || !std::isfinite(rnorm))
+    throw NumericalError(std::string("linear solve did not converge: ") +
+                         KSPConvergedReasons[report.reason] + " after " + std::to_string(its) +
+                         " iterations (residual norm " + std::to_string(rnorm) + ")");
+  current_displacement_ = top_displacement;
+  operator_changed_ = false;
+  update_ghosts();
+  return report;
+}
+
+void ElasticSystem::update_ghosts() const {
+  LEM_PETSC(VecGhostUpdateBegin(u_, INSERT_VALUES, SCATTER_FORWARD));
+  LEM_PETSC(VecGhostUpdateEnd(u_, INSERT_VALUES, SCATTER_FORWARD));
+}
+
+Point ElasticSystem::local_displacement(const PetscScalar* u_local, int node) const {
+  return {u_local[3 * node], u_local[3 * node + 1], u_local[3 * node + 2]};
+}
+
+namespace {
+// Calls f(bond, n, stretch) for every local bond, with the unit vector n from
+// the first to the second end and stretch = n.(u_second - u_first).
+template <class F>
+void for_each_bond_stretch(const DistributedLattice& l, Vec u_ghosted, F&& f) {
+  Vec local;
+  LEM_PETSC(VecGhostGetLocalForm(u_ghosted, &local));
+  const PetscScalar* u = nullptr;
+  LEM_PETSC(VecGetArrayRead(local, &u));
+  for (int b = 0; b < l.local_bonds(); ++b) {
+    const auto [p, q] = l.bond_ends[b];
+    double n[3], length2 = 0, stretch = 0;
+    for (int a = 0; a < 3; ++a) {
+      n[a] = l.coords[q][a] - l.coords[p][a];
+      length2 += n[a] * n[a];
+    }
+    const double length = std::sqrt(length2);
+    for (int a = 0; a < 3; ++a) {
+      n[a] /= length;
+      stretch += n[a] * (u[3 * q + a] - u[3 * p + a]);
+    }
+    f(b, n, stretch);
+  }
+  LEM_PETSC(VecRestoreArrayRead(local, &u));
+  LEM_PETSC(VecGhostRestoreLocalForm(u_ghosted, &local));
+}
+}  // namespace
+
+std::vector<double> ElasticSystem::bond_tensions() const {
+  std::vector<double> tension(lattice_.local_bonds());
+  for_each_bond_stretch(lattice_, u_, [&](int b, const double*, double stretch) {
+    tension[b] = lattice_.bond_stiffness[b] * stretch;
+  });
+  return tension;
+}
+
+std::vector<Point> ElasticSystem::owned_displacements() const {
+  std::vector<Point> d(lattice_.owned);
+  const PetscScalar* u = nullptr;
+  LEM_PETSC(VecGetArrayRead(u_, &u));
+  for (int n = 0; n < lattice_.owned; ++n) d[n] = local_displacement(u, n);
+  LEM_PETSC(VecRestoreArrayRead(u_, &u));
+  return d;
+}
+
+TensionResponse ElasticSystem::response() const {
+  const DistributedLattice& l = lattice_;
+  // sums: reaction, energy, then (sum u, count) for faces x-, x+, y-, y+.
+  double sums[10] = {};
+  for_each_bond_stretch(l, u_, [&](int b, const double* n, double stretch) {
+    const double k = l.bond_stiffness[b], tension = k * stretch;
+    if (l.bond_reported[b]) sums[1] += 0.5 * k * stretch * stretch;
+    // The bond pulls its first end along +n and its second along -n; the
+    // load on a top node balances the pull of its bonds.
+    const auto [p, q] = l.bond_ends[b];
+    if (p < l.owned && (l.dof_flags[p] & kLoadedTop)) sums[0] -= tension * n[2];
+    if (q < l.owned && (l.dof_flags[q] & kLoadedTop)) sums[0] += tension * n[2];
+  });
+  const PetscScalar* u = nullptr;
+  LEM_PETSC(VecGetArrayRead(u_, &u));
+  const std::uint8_t face_bits[4] = {kXmin, kXmax, kYmin, kYmax};
+  for (int n = 0; n < l.owned; ++n) {
+    if (l.dof_flags[n] & kPinned) continue;
+    for (int f = 0; f < 4; ++f)
+      if (l.faces[n] & face_bits[f]) {
+        sums[2 + 2 * f] += u[3 * n + f / 2];
+        sums[3 + 2 * f] += 1;
+      }
+  }
+  LEM_PETSC(VecRestoreArrayRead(u_, &u));
+  double totals[10];
+  MPI_Allreduce(sums, totals, 10, MPI_DOUBLE, MPI_SUM, l.comm);
+  auto mean = [&](int f) { return totals[3 + 2 * f] > 0 ? totals[2 + 2 * f] / totals[3 + 2 * f] : 0; };
+
+  TensionResponse r;
+  r.top_displacement = current_displacement_;
+  r.reaction = totals[0];
+  r.stored_energy = totals[1];
+  r.external_work = 0.5 * r.reaction * current_displacement_;
+  r.stress_zz = r.reaction / (l.box.length(0) * l.box.length(1));
+  r.strain_zz = current_displacement_ / l.box.length(2);
+  r.strain_xx = (mean(1) - mean(0)) / l.box.length(0);
+  r.strain_yy = (mean(3) - mean(2)) / l.box.length(1);
+  if (r.strain_zz != 0) {
+    r.young_modulus = r.stress_zz / r.strain_zz;
+    r.poisson_ratio = -(r.strain_xx + r.strain_yy) / (2 * r.strain_zz);
+  }
+  return r;
+}
+
+}  // namespace lem
