@@ -1,0 +1,768 @@
+// Parallel HDF5 + XDMF output of lattice fields (see lem/hdf5_writer.hpp).
+//
+// Every failure that can happen on a subset of ranks is agreed on with an
+// MPI reduction before anybody throws, so that all ranks throw the same
+// exception together instead of some of them waiting forever in a collective.
+#include "lem/hdf5_writer.hpp"
+
+#include <hdf5.h>
+#include <petscsys.h>
+
+#include <cctype>
+#include <chrono>
+#include <climits>
+#include <ctime>
+#include <exception>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+#include <system_error>
+#include <utility>
+
+#include "lem/error.hpp"
+
+#ifndef LEM_VERSION
+#define LEM_VERSION "unknown"
+#endif
+#ifndef LEM_GIT_HASH
+#define LEM_GIT_HASH "unknown"
+#endif
+
+namespace lem {
+namespace {
+
+namespace fs = std::filesystem;
+
+static_assert(sizeof(std::array<double, 3>) == 3 * sizeof(double),
+              "node coordinates must be stored contiguously");
+static_assert(sizeof(std::array<std::int64_t, 2>) == 2 * sizeof(std::int64_t),
+              "bond ends must be stored contiguously");
+
+// ---------------------------------------------------------------------------
+// MPI helpers
+// ---------------------------------------------------------------------------
+
+int comm_rank(MPI_Comm comm) {
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  return rank;
+}
+
+int comm_size(MPI_Comm comm) {
+  int size = 1;
+  MPI_Comm_size(comm, &size);
+  return size;
+}
+
+/// Broadcast a string from `root`; returns the root's value on every rank.
+std::string broadcast_string(MPI_Comm comm, const std::string& value, int root) {
+  std::int64_t length = static_cast<std::int64_t>(value.size());
+  MPI_Bcast(&length, 1, MPI_INT64_T, root, comm);
+  if (length > INT_MAX) throw std::length_error("broadcast_string: string too long for MPI_Bcast");
+  std::string out = comm_rank(comm) == root ? value : std::string(static_cast<std::size_t>(length), '\0');
+  if (length > 0) MPI_Bcast(out.data(), static_cast<int>(length), MPI_CHAR, root, comm);
+  return out;
+}
+
+std::int64_t sum_all(MPI_Comm comm, std::int64_t local) {
+  std::int64_t total = 0;
+  MPI_Allreduce(&local, &total, 1, MPI_INT64_T, MPI_SUM, comm);
+  return total;
+}
+
+/// Sum of `local` over the ranks below this one (0 on rank 0).
+std::int64_t exclusive_prefix_sum(MPI_Comm comm, std::int64_t local) {
+  std::int64_t prefix = 0;
+  MPI_Exscan(&local, &prefix, 1, MPI_INT64_T, MPI_SUM, comm);
+  if (comm_rank(comm) == 0) prefix = 0;  // MPI_Exscan leaves rank 0's result undefined
+  return prefix;
+}
+
+bool all_ranks_true(MPI_Comm comm, bool local) {
+  int mine = local ? 1 : 0;
+  int all = 0;
+  MPI_Allreduce(&mine, &all, 1, MPI_INT, MPI_LAND, comm);
+  return all != 0;
+}
+
+// ---------------------------------------------------------------------------
+// Collective errors
+// ---------------------------------------------------------------------------
+
+enum class ErrorKind : int { none = 0, input = 1, invalid_argument = 2, runtime = 3 };
+
+/// An error seen by this rank only, to be turned into a collective throw.
+struct LocalError {
+  ErrorKind kind = ErrorKind::none;
+  std::string message;
+
+  void set(ErrorKind k, std::string msg) {
+    if (kind != ErrorKind::none) return;  // keep the first one
+    kind = k;
+    message = std::move(msg);
+  }
+};
+
+[[noreturn]] void throw_error(ErrorKind kind, const std::string& message) {
+  switch (kind) {
+    case ErrorKind::input:
+      throw InputError(message);
+    case ErrorKind::invalid_argument:
+      throw std::invalid_argument(message);
+    default:
+      throw std::runtime_error(message);
+  }
+}
+
+/// If any rank holds an error, every rank throws the error of the lowest such rank.
+void raise_collectively(MPI_Comm comm, const LocalError& error) {
+  const int size = comm_size(comm);
+  int mine = error.kind == ErrorKind::none ? size : comm_rank(comm);
+  int first = size;
+  MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, comm);
+  if (first == size) return;
+  int kind = static_cast<int>(error.kind);
+  MPI_Bcast(&kind, 1, MPI_INT, first, comm);
+  std::string message = broadcast_string(comm, error.message, first);
+  throw_error(static_cast<ErrorKind>(kind), message);
+}
+
+/// Run `work` on every rank; if it fails (returns false or throws) anywhere,
+/// every rank throws std::runtime_error("<what>").
+void collective_step(MPI_Comm comm, const std::string& what, const std::function<bool()>& work) {
+  bool ok = false;
+  try {
+    ok = work();
+  } catch (const std::exception&) {
+    ok = false;
+  }
+  if (!all_ranks_true(comm, ok)) throw std::runtime_error(what);
+}
+
+// ---------------------------------------------------------------------------
+// HDF5 handles
+// ---------------------------------------------------------------------------
+
+/// Owns an HDF5 identifier and closes it with the matching H5?close.
+class Handle {
+ public:
+  using Closer = herr_t (*)(hid_t);
+
+  Handle() = default;
+  Handle(hid_t id, Closer closer) : id_(id), closer_(closer) {}
+  ~Handle() { close(); }
+  Handle(const Handle&) = delete;
+  Handle& operator=(const Handle&) = delete;
+  Handle(Handle&& other) noexcept : id_(other.id_), closer_(other.closer_) {
+    other.id_ = H5I_INVALID_HID;
+  }
+  Handle& operator=(Handle&& other) noexcept {
+    if (this != &other) {
+      close();
+      id_ = other.id_;
+      closer_ = other.closer_;
+      other.id_ = H5I_INVALID_HID;
+    }
+    return *this;
+  }
+
+  [[nodiscard]] hid_t get() const { return id_; }
+  [[nodiscard]] bool valid() const { return id_ >= 0; }
+
+  /// Close now; returns false if HDF5 reported an error.
+  bool close() {
+    herr_t status = 0;
+    if (id_ >= 0 && closer_ != nullptr) status = closer_(id_);
+    id_ = H5I_INVALID_HID;
+    return status >= 0;
+  }
+
+ private:
+  hid_t id_ = H5I_INVALID_HID;
+  Closer closer_ = nullptr;
+};
+
+// ---------------------------------------------------------------------------
+// Input validation
+// ---------------------------------------------------------------------------
+
+struct FieldInfo {
+  std::string name;
+  int components = 1;
+};
+
+std::vector<FieldInfo> field_infos(const std::vector<Field>& fields) {
+  std::vector<FieldInfo> infos;
+  infos.reserve(fields.size());
+  for (const Field& f : fields) infos.push_back({f.name, f.components});
+  return infos;
+}
+
+/// Serialised field layout, compared between ranks.
+std::string schema_text(const std::vector<FieldInfo>& nodes, const std::vector<FieldInfo>& bonds) {
+  std::ostringstream out;
+  for (const auto& f : nodes) out << "node " << f.components << ' ' << f.name << '\n';
+  for (const auto& f : bonds) out << "bond " << f.components << ' ' << f.name << '\n';
+  return out.str();
+}
+
+void check_fields(const std::vector<Field>& fields, std::size_t items, const char* group,
+                  const std::set<std::string>& reserved, int rank, LocalError& error) {
+  std::set<std::string> seen;
+  for (const Field& f : fields) {
+    const std::string where = std::string("/") + group + "/" + f.name;
+    if (f.name.empty() || f.name == "." || f.name == ".." ||
+        f.name.find_first_of("/\n") != std::string::npos) {
+      error.set(ErrorKind::invalid_argument,
+                std::string("write_lattice_fields: invalid ") + group + " field name '" + f.name +
+                    "' (must be non-empty and contain no '/')");
+    } else if (reserved.count(f.name) != 0) {
+      error.set(ErrorKind::invalid_argument,
+                "write_lattice_fields: field name '" + f.name + "' is reserved in /" + group);
+    } else if (!seen.insert(f.name).second) {
+      error.set(ErrorKind::invalid_argument,
+                "write_lattice_fields: duplicate field " + where);
+    } else if (f.components != 1 && f.components != 3) {
+      error.set(ErrorKind::invalid_argument,
+                "write_lattice_fields: field " + where + " has " + std::to_string(f.components) +
+                    " components (allowed: 1 or 3)");
+    } else if (f.values.size() != items * static_cast<std::size_t>(f.components)) {
+      error.set(ErrorKind::invalid_argument,
+                "write_lattice_fields: field " + where + " has " + std::to_string(f.values.size()) +
+                    " values on rank " + std::to_string(rank) + ", expected " +
+                    std::to_string(items) + " items x " + std::to_string(f.components) +
+                    " components");
+    }
+  }
+}
+
+const char* const kProvenanceNames[] = {"program", "version", "git_hash", "options", "start_time",
+                                        "ranks"};
+
+// ---------------------------------------------------------------------------
+// HDF5 writing
+// ---------------------------------------------------------------------------
+
+/// Describes one dataset slice: rows [offset, offset + local_rows) of a
+/// (global_rows x columns) array; columns == 0 means a 1-D dataset.
+struct Slab {
+  hsize_t global_rows = 0;
+  hsize_t offset = 0;
+  hsize_t local_rows = 0;
+  hsize_t columns = 0;
+};
+
+/// Collective: create `group/name` and write this rank's rows into it.
+void write_dataset(MPI_Comm comm, hid_t group, const std::string& path, const std::string& name,
+                   hid_t file_type, hid_t memory_type, const Slab& slab, const void* data,
+                   hid_t transfer, const std::string& file_name) {
+  const int rank = slab.columns == 0 ? 1 : 2;
+  const hsize_t global_dims[2] = {slab.global_rows, slab.columns};
+  Handle file_space;
+  Handle memory_space;
+  Handle dataset;
+  Handle create_plist;
+
+  collective_step(comm, "HDF5: cannot create dataset " + path + " in '" + file_name + "'", [&] {
+    file_space = Handle(H5Screate_simple(rank, global_dims, nullptr), H5Sclose);
+    if (!file_space.valid()) return false;
+    create_plist = Handle(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
+    if (!create_plist.valid()) return false;
+    // Every element is written below, so fill values would be wasted I/O.
+    if (H5Pset_fill_time(create_plist.get(), H5D_FILL_TIME_NEVER) < 0) return false;
+    dataset = Handle(H5Dcreate2(group, name.c_str(), file_type, file_space.get(), H5P_DEFAULT,
+                                create_plist.get(), H5P_DEFAULT),
+                     H5Dclose);
+    if (!dataset.valid()) return false;
+    if (slab.local_rows > 0) {
+      const hsize_t start[2] = {slab.offset, 0};
+      const hsize_t count[2] = {slab.local_rows, slab.columns};
+      if (H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, start, nullptr, count, nullptr) < 0)
+        return false;
+      memory_space = Handle(H5Screate_simple(rank, count, nullptr), H5Sclose);
+      if (!memory_space.valid()) return false;
+    } else {
+      // This rank owns nothing but still takes part in the collective write.
+      const hsize_t one[2] = {1, slab.columns == 0 ? 1 : slab.columns};
+      memory_space = Handle(H5Screate_simple(rank, one, nullptr), H5Sclose);
+      if (!memory_space.valid()) return false;
+      if (H5Sselect_none(memory_space.get()) < 0) return false;
+      if (H5Sselect_none(file_space.get()) < 0) return false;
+    }
+    return true;
+  });
+
+  if (slab.global_rows == 0) return;  // nothing to write on any rank
+
+  collective_step(comm, "HDF5: cannot write dataset " + path + " in '" + file_name + "'", [&] {
+    const double dummy = 0.0;  // never read: the selection is empty
+    const void* buffer = slab.local_rows > 0 ? data : static_cast<const void*>(&dummy);
+    return H5Dwrite(dataset.get(), memory_type, memory_space.get(), file_space.get(), transfer,
+                    buffer) >= 0;
+  });
+  collective_step(comm, "HDF5: cannot close dataset " + path + " in '" + file_name + "'",
+                  [&] { return dataset.close(); });
+}
+
+bool write_string_attribute(hid_t location, const std::string& name, const std::string& value) {
+  Handle type(H5Tcopy(H5T_C_S1), H5Tclose);
+  if (!type.valid()) return false;
+  if (H5Tset_size(type.get(), H5T_VARIABLE) < 0) return false;
+  if (H5Tset_cset(type.get(), H5T_CSET_UTF8) < 0) return false;
+  Handle space(H5Screate(H5S_SCALAR), H5Sclose);
+  if (!space.valid()) return false;
+  Handle attribute(H5Acreate2(location, name.c_str(), type.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT),
+                   H5Aclose);
+  if (!attribute.valid()) return false;
+  const char* text = value.c_str();
+  if (H5Awrite(attribute.get(), type.get(), &text) < 0) return false;
+  return attribute.close();
+}
+
+bool write_numeric_attribute(hid_t location, const std::string& name, hid_t file_type,
+                             hid_t memory_type, const void* value) {
+  Handle space(H5Screate(H5S_SCALAR), H5Sclose);
+  if (!space.valid()) return false;
+  Handle attribute(H5Acreate2(location, name.c_str(), file_type, space.get(), H5P_DEFAULT, H5P_DEFAULT),
+                   H5Aclose);
+  if (!attribute.valid()) return false;
+  if (H5Awrite(attribute.get(), memory_type, value) < 0) return false;
+  return attribute.close();
+}
+
+struct GlobalLayout {
+  std::int64_t nodes = 0;        // global node count
+  std::int64_t node_offset = 0;  // first node row of this rank
+  std::int64_t bonds = 0;
+  std::int64_t bond_offset = 0;
+};
+
+/// Collective: write the whole HDF5 file under `path` (the temporary name).
+void write_hdf5(MPI_Comm comm, const std::string& path, const NodeSlice& nodes,
+                const BondSlice& bonds, const GlobalLayout& layout, const Provenance& provenance,
+                const std::vector<std::pair<std::string, double>>& scalars) {
+  const auto h = [](std::int64_t v) { return static_cast<hsize_t>(v); };
+  const std::string label = "'" + path + "'";
+
+  Handle access;
+  Handle file;
+  collective_step(comm, "HDF5: cannot set up parallel file access for " + label, [&] {
+    access = Handle(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
+    if (!access.valid()) return false;
+    if (H5Pset_fapl_mpio(access.get(), comm, MPI_INFO_NULL) < 0) return false;
+    // All ranks perform identical metadata operations, so they may write
+    // metadata collectively (far fewer small writes at scale).
+    return H5Pset_coll_metadata_write(access.get(), true) >= 0;
+  });
+  collective_step(comm, "HDF5: cannot create file " + label, [&] {
+    file = Handle(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access.get()), H5Fclose);
+    return file.valid();
+  });
+
+  Handle transfer;
+  Handle node_group;
+  Handle bond_group;
+  collective_step(comm, "HDF5: cannot create groups /nodes and /bonds in " + label, [&] {
+    transfer = Handle(H5Pcreate(H5P_DATASET_XFER), H5Pclose);
+    if (!transfer.valid()) return false;
+    if (H5Pset_dxpl_mpio(transfer.get(), H5FD_MPIO_COLLECTIVE) < 0) return false;
+    node_group = Handle(H5Gcreate2(file.get(), "nodes", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
+    bond_group = Handle(H5Gcreate2(file.get(), "bonds", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
+    return node_group.valid() && bond_group.valid();
+  });
+
+  const hsize_t local_nodes = static_cast<hsize_t>(nodes.coords.size());
+  const hsize_t local_bonds = static_cast<hsize_t>(bonds.ends.size());
+  const Slab node_rows{h(layout.nodes), h(layout.node_offset), local_nodes, 0};
+  const Slab bond_rows{h(layout.bonds), h(layout.bond_offset), local_bonds, 0};
+  const auto with_columns = [](Slab s, hsize_t columns) {
+    s.columns = columns;
+    return s;
+  };
+
+  write_dataset(comm, node_group.get(), "/nodes/coordinates", "coordinates", H5T_IEEE_F64LE,
+                H5T_NATIVE_DOUBLE, with_columns(node_rows, 3), nodes.coords.data(), transfer.get(),
+                path);
+  write_dataset(comm, node_group.get(), "/nodes/id", "id", H5T_STD_I64LE, H5T_NATIVE_INT64,
+                node_rows, nodes.ids.data(), transfer.get(), path);
+  for (const Field& f : nodes.fields) {
+    write_dataset(comm, node_group.get(), "/nodes/" + f.name, f.name, H5T_IEEE_F64LE,
+                  H5T_NATIVE_DOUBLE, f.components == 1 ? node_rows : with_columns(node_rows, 3),
+                  f.values.data(), transfer.get(), path);
+  }
+  write_dataset(comm, bond_group.get(), "/bonds/connectivity", "connectivity", H5T_STD_I64LE,
+                H5T_NATIVE_INT64, with_columns(bond_rows, 2), bonds.ends.data(), transfer.get(),
+                path);
+  write_dataset(comm, bond_group.get(), "/bonds/id", "id", H5T_STD_I64LE, H5T_NATIVE_INT64,
+                bond_rows, bonds.ids.data(), transfer.get(), path);
+  for (const Field& f : bonds.fields) {
+    write_dataset(comm, bond_group.get(), "/bonds/" + f.name, f.name, H5T_IEEE_F64LE,
+                  H5T_NATIVE_DOUBLE, f.components == 1 ? bond_rows : with_columns(bond_rows, 3),
+                  f.values.data(), transfer.get(), path);
+  }
+
+  // Root attributes (identical on every rank: the caller broadcast them).
+  const hid_t root = file.get();
+  const std::pair<const char*, const std::string*> strings[] = {
+      {"program", &provenance.program},       {"version", &provenance.version},
+      {"git_hash", &provenance.git_hash},     {"options", &provenance.options},
+      {"start_time", &provenance.start_time},
+  };
+  for (const auto& entry : strings) {
+    collective_step(comm,
+                    std::string("HDF5: cannot write attribute '") + entry.first + "' in " + label,
+                    [&] { return write_string_attribute(root, entry.first, *entry.second); });
+  }
+  const std::int64_t ranks = provenance.ranks;
+  collective_step(comm, "HDF5: cannot write attribute 'ranks' in " + label, [&] {
+    return write_numeric_attribute(root, "ranks", H5T_STD_I64LE, H5T_NATIVE_INT64, &ranks);
+  });
+  for (const auto& scalar : scalars) {
+    collective_step(comm, "HDF5: cannot write attribute '" + scalar.first + "' in " + label, [&] {
+      return write_numeric_attribute(root, scalar.first, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE,
+                                     &scalar.second);
+    });
+  }
+
+  collective_step(comm, "HDF5: cannot close " + label, [&] {
+    bool ok = node_group.close();
+    ok = bond_group.close() && ok;
+    ok = transfer.close() && ok;
+    ok = file.close() && ok;
+    ok = access.close() && ok;
+    return ok;
+  });
+}
+
+// ---------------------------------------------------------------------------
+// XDMF
+// ---------------------------------------------------------------------------
+
+std::string xml_escape(const std::string& text) {
+  std::string out;
+  out.reserve(text.size());
+  for (char c : text) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      case '\'': out += "&apos;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
+std::string dimensions(std::int64_t rows, int columns) {
+  return columns == 1 ? std::to_string(rows) : std::to_string(rows) + " " + std::to_string(columns);
+}
+
+void data_item(std::ostringstream& out, const std::string& indent, std::int64_t rows, int columns,
+               const char* number_type, const std::string& h5_name, const std::string& dataset) {
+  out << indent << "<DataItem Dimensions=\"" << dimensions(rows, columns) << "\" NumberType=\""
+      << number_type << "\" Precision=\"8\" Format=\"HDF\">" << xml_escape(h5_name) << ':'
+      << xml_escape(dataset) << "</DataItem>\n";
+}
+
+void attribute(std::ostringstream& out, const std::string& name, int components,
+               const char* center, std::int64_t rows, const char* number_type,
+               const std::string& h5_name, const std::string& dataset) {
+  out << "      <Attribute Name=\"" << xml_escape(name) << "\" AttributeType=\""
+      << (components == 3 ? "Vector" : "Scalar") << "\" Center=\"" << center << "\">\n";
+  data_item(out, "        ", rows, components, number_type, h5_name, dataset);
+  out << "      </Attribute>\n";
+}
+
+std::string xdmf_text(const std::string& h5_name, const GlobalLayout& layout,
+                      const std::vector<FieldInfo>& node_fields,
+                      const std::vector<FieldInfo>& bond_fields) {
+  const std::int64_t n = layout.nodes;
+  const std::int64_t m = layout.bonds;
+  std::ostringstream out;
+  const auto geometry = [&] {
+    out << "      <Geometry GeometryType=\"XYZ\">\n";
+    data_item(out, "        ", n, 3, "Float", h5_name, "/nodes/coordinates");
+    out << "      </Geometry>\n";
+  };
+  const auto node_attributes = [&] {
+    for (const auto& f : node_fields)
+      attribute(out, f.name, f.components, "Node", n, "Float", h5_name, "/nodes/" + f.name);
+  };
+
+  out << "<?xml version=\"1.0\" ?>\n"
+      << "<Xdmf Version=\"3.0\">\n"
+      << "  <Domain>\n";
+
+  out << "    <Grid Name=\"nodes\" GridType=\"Uniform\">\n"
+      << "      <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << n
+      << "\" NodesPerElement=\"1\"/>\n";
+  geometry();
+  attribute(out, "id", 1, "Node", n, "Int", h5_name, "/nodes/id");
+  node_attributes();
+  out << "    </Grid>\n";
+
+  out << "    <Grid Name=\"bonds\" GridType=\"Uniform\">\n"
+      << "      <Topology TopologyType=\"Polyline\" NumberOfElements=\"" << m
+      << "\" NodesPerElement=\"2\">\n";
+  data_item(out, "        ", m, 2, "Int", h5_name, "/bonds/connectivity");
+  out << "      </Topology>\n";
+  geometry();
+  node_attributes();
+  attribute(out, "id", 1, "Cell", m, "Int", h5_name, "/bonds/id");
+  for (const auto& f : bond_fields)
+    attribute(out, f.name, f.components, "Cell", m, "Float", h5_name, "/bonds/" + f.name);
+  out << "    </Grid>\n";
+
+  out << "  </Domain>\n"
+      << "</Xdmf>\n";
+  return out.str();
+}
+
+// ---------------------------------------------------------------------------
+// Misc
+// ---------------------------------------------------------------------------
+
+std::string iso8601_utc_now() {
+  const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
+  std::tm utc{};
+  gmtime_r(&now, &utc);
+  char buffer[32];
+  std::strftime(buffer, sizeof buffer, "%Y-%m-%dT%H:%M:%SZ", &utc);
+  return buffer;
+}
+
+/// PetscOptionsGetAll gives "-a 1 -b -c x "; put one option (with its value) per line.
+/// A token starts a new option when it is '-' followed by a letter or '_'
+/// (so negative numbers stay values).
+std::string options_one_per_line(const std::string& all) {
+  std::istringstream in(all);
+  std::string token;
+  std::string out;
+  bool line_open = false;
+  while (in >> token) {
+    const bool is_name = token.size() > 1 && token[0] == '-' &&
+                         (std::isalpha(static_cast<unsigned char>(token[1])) != 0 || token[1] == '_');
+    if (is_name && line_open) out += '\n';
+    else if (line_open) out += ' ';
+    out += token;
+    line_open = true;
+  }
+  if (line_open) out += '\n';
+  return out;
+}
+
+/// Rank 0: can `path` be created?  Returns an empty string if yes, else why not.
+std::string probe_writable(const std::string& path) {
+  const fs::path p(path);
+  const fs::path dir = p.parent_path().empty() ? fs::path(".") : p.parent_path();
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec))
+    return "directory '" + dir.string() + "' does not exist or is not a directory";
+  {
+    std::ofstream probe(path, std::ios::binary | std::ios::trunc);
+    if (!probe) return "cannot create files in directory '" + dir.string() + "'";
+  }
+  fs::remove(p, ec);
+  return {};
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------
+// Public interface
+// ---------------------------------------------------------------------------
+
+Provenance collect_provenance(MPI_Comm comm, const std::string& program) {
+  Provenance p;
+  p.program = program;
+  p.version = LEM_VERSION;
+  p.git_hash = LEM_GIT_HASH;
+  p.ranks = comm_size(comm);
+
+  LocalError error;
+  std::string options;
+  std::string start_time;
+  if (comm_rank(comm) == 0) {
+    start_time = iso8601_utc_now();
+    PetscBool initialized = PETSC_FALSE;
+    if (PetscInitialized(&initialized) == 0 && initialized) {
+      char* all = nullptr;
+      const PetscErrorCode ierr = PetscOptionsGetAll(nullptr, &all);
+      if (ierr != 0) {
+        error.set(ErrorKind::runtime,
+                  "collect_provenance: PetscOptionsGetAll failed with error " + std::to_string(ierr));
+      } else {
+        options = options_one_per_line(all != nullptr ? all : "");
+      }
+      if (all != nullptr) PetscFree(all);
+    }
+  }
+  raise_collectively(comm, error);
+  // Rank 0's view wins, so that every rank writes identical attributes.
+  p.start_time = broadcast_string(comm, start_time, 0);
+  p.options = broadcast_string(comm, options, 0);
+  return p;
+}
+
+void write_lattice_fields(MPI_Comm comm, const std::string& stem, const NodeSlice& nodes,
+                          const BondSlice& bonds, const Provenance& provenance,
+                          const std::vector<std::pair<std::string, double>>& scalars) {
+  const int rank = comm_rank(comm);
+
+  // 1. Local consistency of the slices, agreed on by all ranks.
+  LocalError error;
+  const std::size_t local_nodes = nodes.coords.size();
+  const std::size_t local_bonds = bonds.ends.size();
+  if (nodes.ids.size() != local_nodes)
+    error.set(ErrorKind::invalid_argument,
+              "write_lattice_fields: rank " + std::to_string(rank) + " has " +
+                  std::to_string(local_nodes) + " node coordinates but " +
+                  std::to_string(nodes.ids.size()) + " node ids");
+  if (bonds.ids.size() != local_bonds)
+    error.set(ErrorKind::invalid_argument,
+              "write_lattice_fields: rank " + std::to_string(rank) + " has " +
+                  std::to_string(local_bonds) + " bonds but " + std::to_string(bonds.ids.size()) +
+                  " bond ids");
+  check_fields(nodes.fields, local_nodes, "nodes", {"coordinates", "id"}, rank, error);
+  check_fields(bonds.fields, local_bonds, "bonds", {"connectivity", "id"}, rank, error);
+  raise_collectively(comm, error);
+
+  // 2. Every rank must write the same set of datasets.
+  const std::vector<FieldInfo> node_fields = field_infos(nodes.fields);
+  const std::vector<FieldInfo> bond_fields = field_infos(bonds.fields);
+  {
+    const std::string mine = schema_text(node_fields, bond_fields);
+    const std::string root = broadcast_string(comm, mine, 0);
+    if (mine != root)
+      error.set(ErrorKind::invalid_argument,
+                "write_lattice_fields: rank " + std::to_string(rank) +
+                    " passes different fields (names/components/order) than rank 0");
+    raise_collectively(comm, error);
+  }
+
+  // 3. Attributes: rank 0's provenance and scalars are written by everyone.
+  Provenance prov;
+  prov.program = broadcast_string(comm, provenance.program, 0);
+  prov.version = broadcast_string(comm, provenance.version, 0);
+  prov.git_hash = broadcast_string(comm, provenance.git_hash, 0);
+  prov.options = broadcast_string(comm, provenance.options, 0);
+  prov.start_time = broadcast_string(comm, provenance.start_time, 0);
+  prov.ranks = provenance.ranks;
+  MPI_Bcast(&prov.ranks, 1, MPI_INT, 0, comm);
+  std::vector<std::pair<std::string, double>> root_scalars;
+  {
+    std::int64_t count = static_cast<std::int64_t>(scalars.size());
+    MPI_Bcast(&count, 1, MPI_INT64_T, 0, comm);
+    std::vector<double> values(static_cast<std::size_t>(count));
+    if (rank == 0)
+      for (std::size_t i = 0; i < scalars.size(); ++i) values[i] = scalars[i].second;
+    if (count > 0) MPI_Bcast(values.data(), static_cast<int>(count), MPI_DOUBLE, 0, comm);
+    std::set<std::string> names(std::begin(kProvenanceNames), std::end(kProvenanceNames));
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      std::string name = broadcast_string(comm, rank == 0 ? scalars[i].first : std::string(), 0);
+      if (name.empty() || !names.insert(name).second)
+        error.set(ErrorKind::invalid_argument,
+                  "write_lattice_fields: scalar name '" + name +
+                      "' is empty, duplicated or reserved for provenance");
+      root_scalars.emplace_back(std::move(name), values[i]);
+    }
+    raise_collectively(comm, error);  // identical on all ranks: no rank is left behind
+  }
+
+  // 4. Output paths: decided on rank 0 and shared, so a bad path fails everywhere.
+  if (stem.empty() || fs::path(stem).filename().empty()) {
+    throw InputError("write_lattice_fields: output stem '" + stem +
+                     "' must name a file (e.g. out/result), not be empty or end in '/'");
+  }
+  const std::string h5_path = stem + ".h5";
+  const std::string tmp_path = h5_path + ".tmp";
+  const std::string xmf_path = stem + ".xmf";
+  if (rank == 0) {
+    const std::string why = probe_writable(tmp_path);
+    if (!why.empty())
+      error.set(ErrorKind::input, "cannot write output '" + h5_path + "': " + why);
+  }
+  raise_collectively(comm, error);
+
+  // 5. Global sizes and this rank's offsets.
+  GlobalLayout layout;
+  layout.nodes = sum_all(comm, static_cast<std::int64_t>(local_nodes));
+  layout.node_offset = exclusive_prefix_sum(comm, static_cast<std::int64_t>(local_nodes));
+  layout.bonds = sum_all(comm, static_cast<std::int64_t>(local_bonds));
+  layout.bond_offset = exclusive_prefix_sum(comm, static_cast<std::int64_t>(local_bonds));
+  for (const auto& ends : bonds.ends) {
+    for (std::int64_t end : ends) {
+      if (end < 0 || end >= layout.nodes) {
+        error.set(ErrorKind::invalid_argument,
+                  "write_lattice_fields: bond end node " + std::to_string(end) +
+                      " is outside the node rows [0, " + std::to_string(layout.nodes) + ")");
+      }
+    }
+  }
+  raise_collectively(comm, error);
+
+  // 6. The HDF5 file, under its temporary name.
+  try {
+    write_hdf5(comm, tmp_path, nodes, bonds, layout, prov, root_scalars);
+  } catch (...) {
+    // Every rank is here (the failure was agreed on) and the file is closed.
+    MPI_Barrier(comm);
+    if (rank == 0) {
+      std::error_code ec;
+      fs::remove(tmp_path, ec);
+    }
+    throw;
+  }
+  MPI_Barrier(comm);  // every rank has closed the file
+
+  // 7. Rank 0 publishes the file and writes the XDMF description.
+  if (rank == 0) {
+    try {
+      std::error_code ec;
+      fs::rename(tmp_path, h5_path, ec);
+      if (ec) {
+        fs::remove(tmp_path, ec);
+        error.set(ErrorKind::input,
+                  "cannot rename '" + tmp_path + "' to '" + h5_path + "': " + ec.message());
+      } else {
+        const std::string h5_name = fs::path(h5_path).filename().string();
+        write_text_file_atomically(xmf_path, xdmf_text(h5_name, layout, node_fields, bond_fields));
+      }
+    } catch (const InputError& e) {
+      error.set(ErrorKind::input, e.what());
+    } catch (const std::exception& e) {
+      error.set(ErrorKind::runtime, e.what());
+    }
+  }
+  raise_collectively(comm, error);
+}
+
+void write_text_file_atomically(const std::string& path, const std::string& text) {
+  const std::string tmp = path + ".tmp";
+  std::error_code ec;
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) {
+      throw InputError("cannot write file '" + path + "': cannot create '" + tmp + "'");
+    }
+    out.write(text.data(), static_cast<std::streamsize>(text.size()));
+    out.flush();
+    out.close();
+    if (out.fail()) {
+      fs::remove(tmp, ec);
+      throw InputError("cannot write file '" + path + "': writing '" + tmp + "' failed");
+    }
+  }
+  fs::rename(tmp, path, ec);
+  if (ec) {
+    const std::string reason = ec.message();
+    fs::remove(tmp, ec);
+    throw InputError("cannot write file '" + path + "': renaming '" + tmp + "' failed: " + reason);
+  }
+}
+
+}  // namespace lem
