@@ -36,9 +36,11 @@ Inclusions place_inclusions(const Box& box, const InclusionSpec& spec);
 /// paper).
 void stiffen_inclusions(Lattice& lattice, const Inclusions& inclusions, double ratio);
 
-/// Pores: a bond with any end inside a pore is void and removed from the
-/// lattice (void bonds carry nothing).  Bond ids are renumbered.
-void carve_pores(Lattice& lattice, const Inclusions& pores);
+/// Pores: void bonds are removed from the lattice (they carry nothing); bond
+/// ids are renumbered.  A bond is void if any end is inside a pore (the
+/// paper's phase rule, default) or, with `both_ends`, only if both are: the
+/// two rules bracket the true pore volume at a finite resolution.
+void carve_pores(Lattice& lattice, const Inclusions& pores, bool both_ends = false);
 
 /// Fraction of nodes inside the inclusions (a lattice estimate of the volume
 /// fraction).

@@ -61,7 +61,8 @@ struct RandomLatticeSpec {
 };
 
 /// Nodes needed for a target bond count (random Delaunay lattices with a
-/// minimum separation have about 6.6 bonds per node in the bulk).
+/// minimum separation have about 7.7 bonds per node in the bulk, fewer at
+/// the faces).
 std::int64_t nodes_for_bond_count(std::int64_t bonds);
 
 /// Random points with a minimum separation, including points on the six faces,

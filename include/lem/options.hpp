@@ -32,9 +32,10 @@ class OptionGroup {
   /// String restricted to `choices`.
   std::string choice(const char* name, const char* help, const std::vector<std::string>& choices,
                      const std::string& def);
-  /// Exactly `n` comma-separated reals, each > 0.
+  /// Comma-separated reals, each > 0: exactly def.size() of them, or any
+  /// number from 1 to 64 when `any_count`.
   std::vector<double> positive_reals(const char* name, const char* help,
-                                     const std::vector<double>& def);
+                                     const std::vector<double>& def, bool any_count = false);
   /// True if the option was given on the command line / options file.
   bool given(const char* name) const;
 

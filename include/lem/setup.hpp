@@ -22,6 +22,7 @@ struct SampleOptions {
   std::string inclusion_type = "none";  // none | stiff | pore
   InclusionSpec inclusions;
   double inclusion_stiffness_ratio = 10.0;
+  bool pore_needs_both_ends = false;  // void-bond rule, see carve_pores()
 };
 SampleOptions read_sample_options(MPI_Comm comm);
 

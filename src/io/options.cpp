@@ -111,16 +111,17 @@ std::string OptionGroup::choice(const char* name, const char* help,
 }
 
 std::vector<double> OptionGroup::positive_reals(const char* name, const char* help,
-                                                const std::vector<double>& def) {
+                                                const std::vector<double>& def, bool any_count) {
   std::vector<PetscReal> values(def.begin(), def.end());
-  values.resize(std::max<std::size_t>(values.size(), 16));
+  values.resize(std::max<std::size_t>(values.size(), 64));
   PetscInt n = static_cast<PetscInt>(values.size());
   PetscBool set = PETSC_FALSE;
   LEM_PETSC(PetscOptionsRealArray_Private(&items_, name, help, "lem", values.data(), &n, &set));
   if (!set) return def;
-  if (static_cast<std::size_t>(n) != def.size()) {
+  if (any_count ? n < 1 : static_cast<std::size_t>(n) != def.size()) {
     std::ostringstream s;
-    s << "option " << name << " takes " << def.size() << " comma-separated values, got " << n;
+    s << "option " << name << " takes " << (any_count ? std::string("1 to 64") : std::to_string(def.size()))
+      << " comma-separated values, got " << n;
     throw InputError(s.str());
   }
   values.resize(static_cast<std::size_t>(n));

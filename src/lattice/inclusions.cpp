@@ -94,11 +94,12 @@ void stiffen_inclusions(Lattice& lattice, const Inclusions& inclusions, double r
     if (inside[lattice.bonds[b].i] && inside[lattice.bonds[b].j]) lattice.stiffness[b] *= ratio;
 }
 
-void carve_pores(Lattice& lattice, const Inclusions& pores) {
+void carve_pores(Lattice& lattice, const Inclusions& pores, bool both_ends) {
   const auto inside = nodes_inside(lattice, pores);
   std::size_t kept = 0;
   for (std::size_t b = 0; b < lattice.bond_count(); ++b) {
-    if (inside[lattice.bonds[b].i] || inside[lattice.bonds[b].j]) continue;
+    const bool in_i = inside[lattice.bonds[b].i], in_j = inside[lattice.bonds[b].j];
+    if (both_ends ? (in_i && in_j) : (in_i || in_j)) continue;
     lattice.bonds[kept] = lattice.bonds[b];
     lattice.stiffness[kept] = lattice.stiffness[b];
     ++kept;

@@ -38,13 +38,16 @@ SampleOptions read_sample_options(MPI_Comm comm) {
     o.inclusion_type = g.choice("-inclusion_type", "Spherical inclusions", {"none", "stiff", "pore"},
                                 "none");
     o.inclusions.volume_fraction = g.real("-inclusion_fraction", "Volume fraction of inclusions",
-                                          0.2, 0.0, 0.35, true);
+                                          0.2, 0.0, 0.6, true);
     o.inclusions.radius = g.real("-inclusion_radius", "Inclusion radius / smallest box side", 0.1,
                                  0.0, 0.5, true, true);
     o.inclusions.seed = static_cast<std::uint64_t>(
         g.integer("-inclusion_seed", "Random seed of the inclusion centres", 7, 0, PETSC_MAX_INT));
     o.inclusion_stiffness_ratio = g.real("-inclusion_stiffness_ratio", "k inside stiff inclusions "
                                          "/ k of the matrix", 10.0, 0.0, 1e6, true);
+    o.pore_needs_both_ends = g.choice("-inclusion_void_bonds", "Which bonds a pore removes: "
+                                      "any = a bond with an end in a pore (paper), both = only "
+                                      "bonds with both ends in it", {"any", "both"}, "any") == "both";
   }
   return o;
 }
@@ -66,7 +69,7 @@ Lattice build_sample(const SampleOptions& o, SampleInfo& info) {
     if (o.inclusion_type == "stiff")
       stiffen_inclusions(lattice, inc, o.inclusion_stiffness_ratio);
     else
-      carve_pores(lattice, inc);
+      carve_pores(lattice, inc, o.pore_needs_both_ends);
   }
   info.affine = affine_moduli(lattice);
   return lattice;

@@ -254,10 +254,15 @@ SolveReport ElasticSystem::solve(double top_displacement) {
   LEM_PETSC(KSPGetConvergedReason(ksp_, &report.reason));
   report.iterations = static_cast<int>(its);
   report.residual_norm = rnorm;
-  if (report.reason < 0 || !std::isfinite(rnorm))
+  if (report.reason < 0 || !std::isfinite(rnorm)) {
+    std::string hint;
+    if (report.reason == KSP_DIVERGED_INDEFINITE_PC || report.reason == KSP_DIVERGED_INDEFINITE_MAT)
+      hint = "; the lattice probably contains a floppy part (a mechanism) that the pruning of "
+             "under-connected nodes did not remove, e.g. in a very porous sample";
     throw NumericalError(std::string("linear solve did not converge: ") +
                          KSPConvergedReasons[report.reason] + " after " + std::to_string(its) +
-                         " iterations (residual norm " + std::to_string(rnorm) + ")");
+                         " iterations (residual norm " + std::to_string(rnorm) + ")" + hint);
+  }
   current_displacement_ = top_displacement;
   operator_changed_ = false;
   update_ghosts();

@@ -1,0 +1,120 @@
+// Convergence of the effective Young's modulus with the mesh density
+// L_n = M^(-1/3) (paper sect. 3, fig. 6): a matrix with 20% stiff spherical
+// inclusions (10x) and with 20% spherical pores, each normalised by the
+// homogeneous lattice of the same nodes, fitted linearly in L_n.
+//
+//   mpirun -n 2 lem_convergence -convergence_Ln 0.05,0.04,0.03,0.02 -output_dir results/convergence
+//   /usr/bin/python3 tools/plot_convergence.py results/convergence
+#include "lem/driver.hpp"
+#include "lem/elastic_system.hpp"
+#include "lem/error.hpp"
+#include "lem/hdf5_writer.hpp"
+#include "lem/options.hpp"
+#include "lem/setup.hpp"
+#include "lem/tension_output.hpp"
+
+#include <cmath>
+#include <sstream>
+
+static const char help[] =
+    "Mesh-density convergence of E_eff for stiff inclusions and pores (paper fig. 6).\n";
+
+namespace {
+
+// E_eff of one sample, in units of k/a, and the CG iteration count.
+std::pair<double, int> young_modulus(MPI_Comm comm, lem::SampleOptions sample,
+                                     const std::string& inclusions, lem::SetupReport& setup) {
+  sample.inclusion_type = inclusions;
+  auto lattice = lem::setup_tension_lattice(
+      comm, [&](lem::SampleInfo& info) { return lem::build_sample(sample, info); }, setup);
+  lem::ElasticSystem system(lattice);
+  system.assemble();
+  const auto solve = system.solve(3e-4 * lattice.mean_bond_length);
+  const double unit = sample.random.stiffness / lattice.mean_bond_length;
+  return {system.response().young_modulus / unit, solve.iterations};
+}
+
+// Least-squares line y = intercept + slope x.
+std::pair<double, double> fit_line(const std::vector<double>& x, const std::vector<double>& y) {
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  const double n = static_cast<double>(x.size());
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    sx += x[i], sy += y[i], sxx += x[i] * x[i], sxy += x[i] * y[i];
+  }
+  const double slope = (n * sxy - sx * sy) / (n * sxx - sx * sx);
+  return {(sy - slope * sx) / n, slope};
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return lem::run_driver(argc, argv, help, [](MPI_Comm comm) {
+    lem::SampleOptions sample = lem::read_sample_options(comm);
+    std::vector<double> densities;
+    std::string dir;
+    {
+      lem::OptionGroup g(comm, "Convergence study");
+      densities = g.positive_reals("-convergence_Ln", "Mesh densities L_n = M^(-1/3) to run",
+                                   {0.05, 0.04, 0.03, 0.025, 0.02}, true);
+      dir = g.string("-output_dir", "Directory of the results", "results/convergence");
+    }
+    for (double ln : densities)
+      if (ln > 0.2) throw lem::InputError("option -convergence_Ln: L_n = " + std::to_string(ln) +
+                                          " is too coarse (allowed: <= 0.2)");
+    lem::check_option_names({"lattice_", "inclusion_", "convergence_", "output_", "fcc_"});
+    if (sample.lattice_type != "random")
+      throw lem::InputError("lem_convergence needs -lattice_type random");
+    lem::prepare_output_dir(comm, dir, {"convergence.csv", "fit.csv"});
+    const auto provenance = lem::collect_provenance(comm, "lem_convergence");
+
+    std::ostringstream table;
+    table << "# E_eff/E^[m] against L_n (Affes et al. 2012, fig. 6); E^[m] in units of k/a.\n"
+          << "# " << sample.inclusions.volume_fraction << " volume fraction, radius "
+          << sample.inclusions.radius << ", stiff inclusions x" << sample.inclusion_stiffness_ratio
+          << "; git " << provenance.git_hash << "\n"
+          << "Ln,bonds,nodes,E_matrix,E_stiff_over_matrix,E_pore_over_matrix,its_matrix,"
+             "its_stiff,its_pore\n";
+    std::vector<double> ln, stiff, pore;
+    bool first_solve = true;
+    lem::say("%8s %9s %10s %10s %10s %6s\n", "L_n", "bonds", "E^[m]", "E_stiff", "E_pore", "its");
+    for (double density : densities) {
+      sample.random.nodes = 0;
+      sample.random.bonds = 0;
+      sample.random.mesh_density = density;
+      lem::SetupReport setup;
+      const auto [em, im] = young_modulus(comm, sample, "none", setup);
+      if (first_solve) lem::check_unused_options();
+      first_solve = false;
+      lem::SetupReport ss, sp;
+      const auto [es, is] = young_modulus(comm, sample, "stiff", ss);
+      const auto [ep, ip] = young_modulus(comm, sample, "pore", sp);
+      const double m = static_cast<double>(setup.sample.stats.bonds);
+      ln.push_back(std::pow(m, -1.0 / 3.0));  // the L_n actually reached
+      stiff.push_back(es / em);
+      pore.push_back(ep / em);
+      table << ln.back() << "," << setup.sample.stats.bonds << "," << setup.sample.stats.nodes
+            << "," << em << "," << stiff.back() << "," << pore.back() << "," << im << "," << is
+            << "," << ip << "\n";
+      lem::say("%8.4f %9lld %10.5f %10.5f %10.5f %6d\n", ln.back(),
+               (long long)setup.sample.stats.bonds, em, stiff.back(), pore.back(), im);
+    }
+    std::ostringstream fit;
+    fit << "case,extrapolated_E_over_Em,alpha_E\n";
+    if (ln.size() >= 2) {
+      const auto [s0, sa] = fit_line(ln, stiff);
+      const auto [p0, pa] = fit_line(ln, pore);
+      fit << "stiff," << s0 << "," << sa << "\npore," << p0 << "," << pa << "\n";
+      lem::say("linear fits E/E^[m] = E0 + alpha_E L_n:\n  stiff inclusions: E0 = %.4f, "
+               "alpha_E = %.3f\n  pores:            E0 = %.4f, alpha_E = %.3f\n",
+               s0, sa, p0, pa);
+    }
+    int rank = 0;
+    MPI_Comm_rank(comm, &rank);
+    if (rank == 0) {
+      lem::write_text_file_atomically(dir + "/fit.csv", fit.str());
+      lem::write_text_file_atomically(dir + "/convergence.csv", table.str());
+    }
+    lem::say("results in %s/ (plot: /usr/bin/python3 tools/plot_convergence.py %s)\n", dir.c_str(),
+             dir.c_str());
+  });
+}

@@ -1,0 +1,24 @@
+#!/bin/bash
+# Install the Debian 12 packages this project needs, if any is missing.
+# Runs apt-get as root; as another user it prints the command to run.
+set -euo pipefail
+packages=(build-essential cmake pkg-config git petsc-dev libmetis-dev libcgal-dev
+          libhdf5-openmpi-dev openmpi-bin libgtest-dev python3-matplotlib python3-h5py
+          python3-numpy)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  exit 0
+fi
+if [ "$(id -u)" -ne 0 ]; then
+  echo "error: missing Debian packages: ${missing[*]}" >&2
+  echo "install them with: sudo apt-get install ${missing[*]}" >&2
+  exit 1
+fi
+echo "installing: ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+apt-get update -qq
+apt-get install -y -qq --no-install-recommends "${missing[@]}" > /tmp/lem-apt.log 2>&1 ||
+  { tail -20 /tmp/lem-apt.log >&2; echo "error: apt-get install failed (log: /tmp/lem-apt.log)" >&2; exit 1; }

@@ -1,0 +1,22 @@
+# A small elastic tension run at 2 ranks must finish and write every result
+# file, with E and nu in the summary.
+file(REMOVE_RECURSE ${DIR})
+separate_arguments(RUN UNIX_COMMAND "${RUN}")
+execute_process(COMMAND ${RUN} -lattice_nodes 3000 -output_dir ${DIR}
+                RESULT_VARIABLE status OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT status EQUAL 0)
+  message(FATAL_ERROR "lem_tension failed (${status}):\n${out}\n${err}")
+endif()
+foreach(f summary.json summary.csv fields.h5 fields.xmf)
+  if(NOT EXISTS ${DIR}/${f})
+    message(FATAL_ERROR "missing result file ${DIR}/${f}")
+  endif()
+endforeach()
+file(READ ${DIR}/summary.json json)
+string(JSON e GET ${json} E_eff)
+string(JSON nu GET ${json} nu)
+string(JSON gap GET ${json} energy_relative_gap)
+if(e LESS 1.0 OR e GREATER 4.0 OR nu LESS 0.1 OR nu GREATER 0.35 OR gap GREATER 1e-6)
+  message(FATAL_ERROR "implausible results: E_eff=${e} nu=${nu} energy gap=${gap}")
+endif()
+message(STATUS "E_eff=${e} nu=${nu} energy gap=${gap}")
