@@ -36,6 +36,18 @@ void set_default_option(const char* name, const char* value) {
 
 bool fixed(std::uint8_t flags, int component) { return flags & (1u << component); }
 
+// Unit vector of a local bond, from its first end to its second.
+void bond_direction(const DistributedLattice& l, int bond, double n[3]) {
+  const auto [p, q] = l.bond_ends[bond];
+  double length2 = 0;
+  for (int a = 0; a < 3; ++a) {
+    n[a] = l.coords[q][a] - l.coords[p][a];
+    length2 += n[a] * n[a];
+  }
+  const double inv = 1.0 / std::sqrt(length2);
+  for (int a = 0; a < 3; ++a) n[a] *= inv;
+}
+
 }  // namespace
 
 ElasticSystem::ElasticSystem(DistributedLattice& lattice) : lattice_(lattice) {
@@ -121,11 +133,8 @@ ElasticSystem::~ElasticSystem() {
 
 void ElasticSystem::add_bond_block(int bond, double k_change) {
   const auto [p, q] = lattice_.bond_ends[bond];
-  const Point& x = lattice_.coords[p];
-  const Point& y = lattice_.coords[q];
-  double n[3] = {y[0] - x[0], y[1] - x[1], y[2] - x[2]};
-  const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-  for (double& v : n) v /= length;
+  double n[3];
+  bond_direction(lattice_, bond, n);
   for (int e = 0; e < 2; ++e) {
     const int me = e ? q : p, other = e ? p : q;
     if (me >= lattice_.owned) continue;
@@ -184,11 +193,8 @@ void ElasticSystem::assemble_rhs(double top_displacement) {
   LEM_PETSC(VecGetArray(b_, &rhs));
   for (int b = 0; b < lattice_.local_bonds(); ++b) {
     const auto [p, q] = lattice_.bond_ends[b];
-    const Point& x = lattice_.coords[p];
-    const Point& y = lattice_.coords[q];
-    double n[3] = {y[0] - x[0], y[1] - x[1], y[2] - x[2]};
-    const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-    for (double& v : n) v /= length;
+    double n[3];
+    bond_direction(lattice_, b, n);
     const double k = lattice_.bond_stiffness[b];
     for (int e = 0; e < 2; ++e) {
       const int me = e ? q : p, other = e ? p : q;
@@ -289,16 +295,9 @@ void for_each_bond_stretch(const DistributedLattice& l, Vec u_ghosted, F&& f) {
   LEM_PETSC(VecGetArrayRead(local, &u));
   for (int b = 0; b < l.local_bonds(); ++b) {
     const auto [p, q] = l.bond_ends[b];
-    double n[3], length2 = 0, stretch = 0;
-    for (int a = 0; a < 3; ++a) {
-      n[a] = l.coords[q][a] - l.coords[p][a];
-      length2 += n[a] * n[a];
-    }
-    const double length = std::sqrt(length2);
-    for (int a = 0; a < 3; ++a) {
-      n[a] /= length;
-      stretch += n[a] * (u[3 * q + a] - u[3 * p + a]);
-    }
+    double n[3], stretch = 0;
+    bond_direction(l, b, n);
+    for (int a = 0; a < 3; ++a) stretch += n[a] * (u[3 * q + a] - u[3 * p + a]);
     f(b, n, stretch);
   }
   LEM_PETSC(VecRestoreArrayRead(local, &u));
