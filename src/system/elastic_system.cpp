@@ -116,6 +116,10 @@ ElasticSystem::ElasticSystem(DistributedLattice& lattice) : lattice_(lattice) {
   set_default_option("-pc_type", "gamg");
   set_default_option("-pc_gamg_agg_nsmooths", "0");
   set_default_option("-pc_mg_cycle_type", "w");
+  // One Chebyshev sweep per level and a 1000-row coarse grid: 30-40 % less
+  // solve time than GAMG's defaults at 1.4e6 bonds (docs/performance.md).
+  set_default_option("-mg_levels_ksp_max_it", "1");
+  set_default_option("-pc_gamg_coarse_eq_limit", "1000");
   set_default_option("-ksp_rtol", "1e-8");
   LEM_PETSC(KSPCreate(comm, &ksp_));
   LEM_PETSC(KSPSetOperators(ksp_, K_, K_));
