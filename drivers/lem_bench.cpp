@@ -1,0 +1,256 @@
+// Benchmark of the tension pipeline at one size and rank count: set-up stages,
+// assembly, preconditioner set-up, CG solve, peak memory, fine-level MatMult
+// and a STREAM triad measured in the same run.  Prints figures, not a verdict.
+//
+//   mpirun -n 2 lem_bench -bench_bonds 1300000 -options_file jobs/solver-gamg.opts
+//
+// Solves measured (docs/performance.md):
+//   first  - ElasticSystem::solve(d) as lem_tension does it: KSPSetUp (PC built
+//            from scratch) then CG from the affine initial guess;
+//   repeat - -bench_repeat times: assemble() again (same values), KSPSetUp +
+//            PCSetUp (PC rebuilt; GAMG may reuse its interpolation), then CG from a zero
+//            initial guess on b = K u_first, i.e. the same problem.  The PC set
+//            up in one repeat is the one kept for the solve of that repeat.
+#include "lem/driver.hpp"
+#include "lem/elastic_system.hpp"
+#include "lem/error.hpp"
+#include "lem/options.hpp"
+#include "lem/setup.hpp"
+
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <cstring>
+#include <memory>
+#include <string>
+#include <vector>
+
+static const char help[] = "Benchmark of lattice set-up, assembly and the CG + AMG solve.\n";
+
+namespace {
+
+double max_over(MPI_Comm comm, double v) {
+  double m = 0;
+  MPI_Allreduce(&v, &m, 1, MPI_DOUBLE, MPI_MAX, comm);
+  return m;
+}
+
+// Wall time of f() on the slowest rank, all ranks starting together.
+template <class F>
+double timed(MPI_Comm comm, F&& f) {
+  MPI_Barrier(comm);
+  const double t = MPI_Wtime();
+  f();
+  return max_over(comm, MPI_Wtime() - t);
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n == 0 ? 0.0 : n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+// Peak resident set size (ru_maxrss) of every rank in MB.
+std::vector<double> peak_rss_mb(MPI_Comm comm) {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  const double mb = static_cast<double>(usage.ru_maxrss) / 1024.0;
+  int size = 1;
+  MPI_Comm_size(comm, &size);
+  std::vector<double> all(static_cast<std::size_t>(size));
+  MPI_Allgather(&mb, 1, MPI_DOUBLE, all.data(), 1, MPI_DOUBLE, comm);
+  return all;
+}
+
+std::string list(const std::vector<double>& v) {
+  std::string s;
+  for (double x : v) {
+    if (!s.empty()) s += ' ';
+    s += std::to_string(static_cast<long>(x));
+  }
+  return s;
+}
+
+// STREAM triad a = b + s c on every rank at once (three arrays of `mb` MB per
+// rank); aggregate GB/s counting 24 bytes per element, best of 5.
+double stream_triad_gbs(MPI_Comm comm, double mb) {
+  const auto n = static_cast<std::size_t>(mb * 1e6 / 8.0);
+  std::vector<double> a(n, 0.0), b(n, 1.0), c(n, 2.0);  // first touch here
+  double best = 1e300;
+  for (int trial = 0; trial < 5; ++trial) {
+    const double s = 0.5 + trial;
+    best = std::min(best, timed(comm, [&] {
+      for (std::size_t i = 0; i < n; ++i) a[i] = b[i] + s * c[i];
+    }));
+  }
+  if (a[n / 2] != 1.0 + 4.5 * 2.0) throw std::logic_error("STREAM triad: wrong result");
+  int size = 1;
+  MPI_Comm_size(comm, &size);
+  return 24.0 * static_cast<double>(n) * size / best / 1e9;
+}
+
+// Rows and nonzeros of each multigrid level, finest first (PCMG/PCGAMG only).
+void print_levels(KSP ksp) {
+  PC pc;
+  LEM_PETSC(KSPGetPC(ksp, &pc));
+  PetscBool mg = PETSC_FALSE;
+  LEM_PETSC(PetscObjectTypeCompareAny(reinterpret_cast<PetscObject>(pc), &mg, PCGAMG, PCMG, ""));
+  if (!mg) return;
+  PetscInt levels = 0;
+  LEM_PETSC(PCMGGetLevels(pc, &levels));
+  double fine = 0, total = 0;
+  std::string text;
+  for (PetscInt l = levels - 1; l >= 0; --l) {
+    KSP smoother;
+    Mat A;
+    MatInfo info;
+    PetscInt rows = 0;
+    LEM_PETSC(PCMGGetSmoother(pc, l, &smoother));
+    LEM_PETSC(KSPGetOperators(smoother, &A, nullptr));
+    LEM_PETSC(MatGetInfo(A, MAT_GLOBAL_SUM, &info));
+    LEM_PETSC(MatGetSize(A, &rows, nullptr));
+    if (l == levels - 1) fine = info.nz_used;
+    total += info.nz_used;
+    text += ' ';
+    text += std::to_string(rows);
+    text += '/';
+    text += std::to_string(static_cast<long long>(info.nz_used));
+  }
+  lem::say("multigrid: %d levels, rows/nnz fine to coarse:%s, operator complexity %.3f\n",
+           static_cast<int>(levels), text.c_str(), total / fine);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return lem::run_driver(argc, argv, help, [](MPI_Comm comm) {
+    lem::SampleOptions sample = lem::read_sample_options(comm);
+    std::int64_t bonds = 0, repeat = 0, matmults = 0;
+    bool morton = true;
+    double stream_mb = 0;
+    {
+      lem::OptionGroup g(comm, "Benchmark");
+      bonds = g.integer("-bench_bonds", "Approximate number of bonds", 1300000, 100, 2'000'000'000);
+      repeat = g.integer("-bench_repeat", "Repeated assembly + PC set-up + solve", 3, 0, 100);
+      morton = g.flag("-bench_morton", "Morton order inside each part (false: METIS order)", true);
+      matmults = g.integer("-bench_matmult", "Fine-level MatMults timed", 20, 1, 10000);
+      stream_mb = g.real("-bench_stream_mb", "STREAM array size per rank (MB, x3 arrays)", 80.0,
+                         1.0, 1e5);
+      for (const char* o : {"-lattice_nodes", "-lattice_bonds", "-lattice_Ln", "-lattice_type"})
+        if (g.given(o)) throw lem::InputError(std::string(o) + ": lem_bench sets the size with "
+                                              "-bench_bonds (random lattices only)");
+    }
+    lem::check_option_names({"bench_", "lattice_"});
+    sample.random.nodes = 0;
+    sample.random.bonds = bonds;
+    int ranks = 1;
+    MPI_Comm_size(comm, &ranks);
+
+    lem::SetupReport setup;
+    auto lattice = lem::setup_tension_lattice(
+        comm, [&](lem::SampleInfo& info) { return lem::build_sample(sample, info); }, setup,
+        morton);
+    const auto rss_setup = peak_rss_mb(comm);
+    const long long nodes = setup.sample.stats.nodes, nbonds = setup.sample.stats.bonds;
+    lem::say("lattice: %lld nodes, %lld bonds (%lld active), %d ranks, %s order, edge cut %lld\n",
+             nodes, nbonds, static_cast<long long>(setup.active_bonds), ranks,
+             morton ? "Morton" : "METIS", static_cast<long long>(setup.edge_cut));
+
+    const double delta = 3e-4 * lattice.mean_bond_length;
+    lem::ElasticSystem* sys = nullptr;
+    const double t_create = timed(comm, [&] { sys = new lem::ElasticSystem(lattice); });
+    std::unique_ptr<lem::ElasticSystem> owner(sys);
+    const double t_asm = timed(comm, [&] { sys->assemble(); });
+    const lem::SolveReport first = sys->solve(delta);
+    lem::check_unused_options();
+    const Mat K = sys->matrix();
+    const KSP ksp = sys->ksp();
+    PC pc;
+    LEM_PETSC(KSPGetPC(ksp, &pc));
+    print_levels(ksp);
+
+    // b = K u reproduces the right-hand side of the problem just solved.
+    Vec x, b;
+    LEM_PETSC(MatCreateVecs(K, &x, &b));
+    {
+      const auto u = sys->owned_displacements();
+      PetscScalar* xa = nullptr;
+      LEM_PETSC(VecGetArray(x, &xa));
+      for (std::size_t n = 0; n < u.size(); ++n)
+        for (std::size_t a = 0; a < 3; ++a) xa[3 * n + a] = u[n][a];
+      LEM_PETSC(VecRestoreArray(x, &xa));
+      LEM_PETSC(MatMult(K, x, b));
+    }
+    std::vector<double> asm_s, setup_s, solve_s, its;
+    for (std::int64_t r = 0; r < repeat; ++r) {
+      asm_s.push_back(timed(comm, [&] { sys->assemble(); }));
+      // KSPSetUp alone does not rebuild the PC after a change of matrix values
+      // (KSPSolve would, inside the solve timing): call PCSetUp explicitly.
+      setup_s.push_back(timed(comm, [&] { LEM_PETSC(KSPSetUp(ksp)); LEM_PETSC(PCSetUp(pc)); }));
+      LEM_PETSC(VecZeroEntries(x));
+      solve_s.push_back(timed(comm, [&] { LEM_PETSC(KSPSolve(ksp, b, x)); }));
+      PetscInt n = 0;
+      KSPConvergedReason reason;
+      LEM_PETSC(KSPGetIterationNumber(ksp, &n));
+      LEM_PETSC(KSPGetConvergedReason(ksp, &reason));
+      if (reason < 0) throw lem::NumericalError("repeated solve diverged");
+      its.push_back(static_cast<double>(n));
+    }
+
+    // One fine-level MatMult: time, bytes (values + column indices + row
+    // starts + x read + y written; ghost exchange not counted).
+    const double t_mm = timed(comm, [&] {
+      for (std::int64_t k = 0; k < matmults; ++k) LEM_PETSC(MatMult(K, x, b));
+    }) / static_cast<double>(matmults);
+    MatInfo info;
+    PetscInt rows = 0, bs = 1;
+    MatType type;
+    LEM_PETSC(MatGetInfo(K, MAT_GLOBAL_SUM, &info));
+    LEM_PETSC(MatGetSize(K, &rows, nullptr));
+    LEM_PETSC(MatGetBlockSize(K, &bs));
+    LEM_PETSC(MatGetType(K, &type));
+    const bool blocked = std::strstr(type, "baij") != nullptr;
+    const double index_rows = blocked ? static_cast<double>(rows) / bs : static_cast<double>(rows);
+    const double mm_bytes = info.nz_used * (sizeof(PetscScalar) + sizeof(PetscInt) / (blocked ? bs * bs : 1.0)) +
+                            index_rows * sizeof(PetscInt) + 2.0 * rows * sizeof(PetscScalar);
+    LEM_PETSC(VecDestroy(&x));
+    LEM_PETSC(VecDestroy(&b));
+
+    const auto rss = peak_rss_mb(comm);
+    const double stream = stream_triad_gbs(comm, stream_mb);
+
+    const double pcsetup_rep = median(setup_s), solve_rep = median(solve_s), its_rep = median(its);
+    const double per_it = repeat ? solve_rep / its_rep : first.solve_seconds / first.iterations;
+    const double mm_stream = mm_bytes / (stream * 1e9);  // MatMult time at the STREAM bound
+    const double mem_max = *std::max_element(rss.begin(), rss.end());
+    lem::say("set-up:   generation %.2f s, constraints %.2f s, partition %.2f s, distribution "
+             "%.2f s\n", setup.seconds_build, setup.seconds_constraints,
+             setup.seconds_partition, setup.seconds_distribute);
+    lem::say("system:   create+preallocate %.3f s, assembly %.3f s (repeats: median %.3f s)\n",
+             t_create, t_asm, median(asm_s));
+    lem::say("first:    PC setup %.3f s, solve %.3f s, %d CG its (affine initial guess)\n",
+             first.setup_seconds, first.solve_seconds, first.iterations);
+    lem::say("repeat:   PC setup median %.3f s, solve median %.3f s, %.0f CG its (zero initial "
+             "guess, %d repeats)\n", pcsetup_rep, solve_rep, its_rep, static_cast<int>(repeat));
+    lem::say("per CG iteration %.2f ms = %.1f measured fine MatMults = %.1f STREAM-bound MatMults\n",
+             1e3 * per_it, per_it / t_mm, per_it / mm_stream);
+    lem::say("MatMult (%s): %.2f ms, %.3g MB moved (nnz %.4g), %.2f GB/s = %.0f%% of STREAM\n",
+             type, 1e3 * t_mm, mm_bytes / 1e6, info.nz_used, mm_bytes / t_mm / 1e9,
+             100.0 * mm_stream / t_mm);
+    lem::say("STREAM triad: %.2f GB/s aggregate over %d ranks (3 x %.0f MB per rank)\n", stream,
+             ranks, stream_mb);
+    lem::say("peak RSS MB: max %.0f; per rank after set-up [%s], at end [%s]\n", mem_max,
+             list(rss_setup).c_str(), list(rss).c_str());
+    lem::say("# BENCH columns: ranks,bonds,nodes,gen_s,partition_s,distribute_s,assembly_s,"
+             "pcsetup_s,solve_s,its,mem_max_MB,stream_GBs,constraints_s,morton,pcsetup_rep_s,"
+             "solve_rep_s,its_rep,ms_per_it,matmult_ms,matmult_MB,matmult_GBs,it_in_matmults,"
+             "stream_fraction_matmult\n");
+    lem::say("BENCH,%d,%lld,%lld,%.3f,%.3f,%.3f,%.4f,%.4f,%.4f,%d,%.0f,%.2f,%.3f,%d,%.4f,%.4f,%.0f,"
+             "%.3f,%.3f,%.1f,%.2f,%.2f,%.3f\n",
+             ranks, nbonds, nodes, setup.seconds_build, setup.seconds_partition,
+             setup.seconds_distribute, t_asm, first.setup_seconds, first.solve_seconds,
+             first.iterations, mem_max, stream, setup.seconds_constraints, morton ? 1 : 0,
+             pcsetup_rep, solve_rep, its_rep, 1e3 * per_it, 1e3 * t_mm, mm_bytes / 1e6,
+             mm_bytes / t_mm / 1e9, per_it / t_mm, mm_stream / t_mm);
+  });
+}

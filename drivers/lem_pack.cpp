@@ -1,0 +1,166 @@
+// Dense packing of polydisperse spheres and the cubic sample cut out of it.
+//
+//   lem_pack -pack_particles 4000 -pack_sample_particles 516 -output_dir results/packing
+//
+// The packing is serial: rank 0 builds it, other ranks only take part in the
+// option handling and the error report.
+#include "lem/driver.hpp"
+#include "lem/error.hpp"
+#include "lem/hdf5_writer.hpp"
+#include "lem/options.hpp"
+#include "lem/packing.hpp"
+#include "lem/tension_output.hpp"  // prepare_output_dir
+
+#include <cstdio>
+#include <string>
+
+static const char help[] =
+    "Jammed packing of polydisperse frictionless spheres (isotropic compaction in a periodic\n"
+    "box) and a cubic sample of it, as in Affes et al., EPJE 35 (2012), sect. 2.2-2.3.\n";
+
+namespace {
+
+std::string format(const char* fmt, double a) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, fmt, a);
+  return buffer;
+}
+
+std::string spheres_csv(const lem::CubeSample& cube, const lem::Packing& packing,
+                        const lem::PackingSpec& spec, const lem::Provenance& prov,
+                        const std::string& what) {
+  std::string options = prov.options;
+  for (char& c : options)
+    if (c == '\n') c = ' ';
+  std::string text;
+  text += "# lem_pack " + what + ": sphere centres and radii (lengths in the units of d_min)\n";
+  text += "# version " + prov.version + ", git " + prov.git_hash + ", started " +
+          prov.start_time + ", options: " + options + "\n";
+  text += "# seed " + std::to_string(spec.seed) + ", d_min " + format("%.17g", spec.d_min) +
+          ", d_max " + format("%.17g", spec.d_max) + ", distribution " +
+          (spec.distribution == lem::SizeDistribution::uniform_volume ? "uniform_volume"
+                                                                       : "uniform_diameter") +
+          "\n";
+  text += "# periodic box side " + format("%.17g", packing.box_side) + ", " +
+          std::to_string(packing.spheres.size()) + " spheres, volume fraction " +
+          format("%.6f", packing.stats.volume_fraction) + "\n";
+  text += "# cube [0, " + format("%.17g", cube.side) + "]^3: " +
+          std::to_string(cube.spheres.size()) + " spheres, the first " +
+          std::to_string(cube.centres_inside) + " with centres inside" +
+          (cube.spheres.size() > static_cast<std::size_t>(cube.centres_inside)
+               ? " (the others reach in from outside)"
+               : "") +
+          "; volume fraction " + format("%.6f", cube.volume_fraction) +
+          " (counting every sphere reaching in " + format("%.6f", cube.region_volume_fraction) +
+          ")\n";
+  text += "x,y,z,radius\n";
+  char line[128];
+  for (const auto& s : cube.spheres) {
+    std::snprintf(line, sizeof line, "%.17g,%.17g,%.17g,%.17g\n", s.centre[0], s.centre[1],
+                  s.centre[2], s.radius);
+    text += line;
+  }
+  return text;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return lem::run_driver(argc, argv, help, [](MPI_Comm comm) {
+    lem::PackingSpec spec;
+    std::int64_t sample = 0;
+    std::string dir;
+    bool write_box = false;
+    lem::CubeCut cut = lem::CubeCut::centres_inside;
+    {
+      lem::OptionGroup g(comm, "Packing");
+      spec.count = g.integer("-pack_particles", "Spheres in the periodic box", 1000, 20,
+                             50'000'000);
+      sample = g.integer("-pack_sample_particles",
+                         "Sphere centres in the cubic sample (at most -pack_particles)", 516, 1,
+                         50'000'000);
+      spec.d_min = g.real("-pack_dmin", "Smallest diameter", 1.0, 0.0, 1e6, true);
+      spec.d_max = g.real("-pack_dmax", "Largest diameter (>= d_min, <= 4 d_min)", 1.25, 0.0, 1e6,
+                          true);
+      spec.seed = static_cast<std::uint64_t>(
+          g.integer("-pack_seed", "Seed of the random diameters and start positions", 1, 0,
+                    2147483647));
+      const auto dist = g.choice("-pack_distribution", "Diameter distribution",
+                                 {"uniform_diameter", "uniform_volume"}, "uniform_diameter");
+      spec.distribution = dist == "uniform_volume" ? lem::SizeDistribution::uniform_volume
+                                                   : lem::SizeDistribution::uniform_diameter;
+      const auto law = g.choice("-pack_law", "Soft repulsion used to find the jammed state",
+                                {"linear", "hertz"}, "linear");
+      spec.law = law == "hertz" ? lem::ContactLaw::hertz : lem::ContactLaw::linear;
+      spec.fraction_tolerance =
+          g.real("-pack_tolerance", "Stop when jammed and unjammed volume fractions differ by "
+                 "less than this", 1e-5, 1e-9, 1e-2);
+      spec.initial_fraction = g.real("-pack_initial_fraction", "Volume fraction of the random "
+                                     "start", spec.initial_fraction, 0.05, 0.72);
+      spec.initial_step = g.real("-pack_initial_step", "First change of volume fraction between "
+                                 "jamming attempts", spec.initial_step, 0.0, 0.1, true);
+      spec.force_tolerance = g.real("-pack_force_tolerance", "A relaxation ends jammed when "
+                                    "the largest net force is below this times the mean "
+                                    "contact force", spec.force_tolerance, 0.0, 0.1, true);
+      spec.contact_gap = g.real("-pack_contact_gap", "Contact if the gap is below this times "
+                                "the mean diameter", 1e-3, 0.0, 0.5);
+      cut = g.choice("-pack_cut", "Spheres of the cube: centres inside it, or also those "
+                     "reaching in from outside", {"centres", "reaching"}, "centres") == "reaching"
+                ? lem::CubeCut::reaching_in
+                : lem::CubeCut::centres_inside;
+      write_box = g.flag("-pack_write_box", "Also write the whole periodic packing "
+                         "(packing_box.csv)", false);
+      dir = g.string("-output_dir", "Directory of the results", "results/packing");
+    }
+    lem::check_option_names({"pack_", "output_"});
+    lem::validate(spec);
+    if (sample > spec.count)
+      throw lem::InputError("option -pack_sample_particles = " + std::to_string(sample) +
+                            " is out of range: allowed 1 to -pack_particles = " +
+                            std::to_string(spec.count));
+    lem::prepare_output_dir(comm, dir, {"packing.csv", "packing_box.csv"});
+    const auto provenance = lem::collect_provenance(comm, "lem_pack");
+
+    lem::run_on_root(comm, [&] {
+      lem::say("packing %lld spheres, d in [%g, %g], seed %llu\n", (long long)spec.count,
+               spec.d_min, spec.d_max, (unsigned long long)spec.seed);
+      const auto packing = lem::make_packing(spec, [](const lem::JammingAttempt& a) {
+        lem::say("attempt %3d  rho_p %.6f  %-8s  step %.1e  overlap mean %.2e max %.2e  "
+                 "relaxation %7lld steps  %8.2f s\n",
+                 a.attempt, a.volume_fraction,
+                 a.jammed ? (a.settled ? "jammed" : "jammed*") : "free", a.step,
+                 a.mean_overlap, a.max_overlap, (long long)a.relaxation_steps, a.seconds);
+      });
+      const auto& st = packing.stats;
+      lem::say("box: side %.6g, %lld spheres, rho_p %.6f, %d attempts (%d stopped by the step "
+               "limit, marked *), %lld FIRE steps, %lld list builds, %.2f s\n",
+               packing.box_side, (long long)st.particles, st.volume_fraction, st.attempts,
+               st.unsettled_attempts, (long long)st.relaxation_steps,
+               (long long)st.neighbour_builds, st.seconds);
+      lem::say("contacts (gap < %g d_mean): z = %.3f; rattlers %.1f%%, z without rattlers %.3f "
+               "(overlapping contacts only: %.3f)\n",
+               spec.contact_gap, st.mean_coordination, 100 * st.rattler_fraction,
+               st.backbone_coordination, st.loaded_coordination);
+      lem::say("overlap / d: mean %.3e, max %.3e (%lld overlapping pairs); pressure %.3e k/d_min\n",
+               st.mean_overlap, st.max_overlap, (long long)st.overlapping_pairs, st.pressure);
+
+      const auto cube = lem::cut_cube(packing, sample, cut);
+      lem::say("cube: side %.6g, %lld centres inside, %zu spheres, rho_p %.6f (counting every "
+               "sphere reaching in %.6f)\n",
+               cube.side, (long long)cube.centres_inside, cube.spheres.size(),
+               cube.volume_fraction, cube.region_volume_fraction);
+      lem::write_text_file_atomically(dir + "/packing.csv",
+                                      spheres_csv(cube, packing, spec, provenance, "cubic sample"));
+      if (write_box) {
+        lem::CubeSample whole;
+        whole.side = packing.box_side;
+        whole.spheres = packing.spheres;
+        whole.centres_inside = static_cast<std::int64_t>(whole.spheres.size());
+        whole.volume_fraction = whole.region_volume_fraction = st.volume_fraction;
+        lem::write_text_file_atomically(dir + "/packing_box.csv",
+                                        spheres_csv(whole, packing, spec, provenance, "periodic box"));
+      }
+    });
+    lem::say("results in %s/\n", dir.c_str());
+  });
+}
