@@ -9,6 +9,7 @@
 #include "lem/elastic_system.hpp"
 #include "lem/error.hpp"
 #include "lem/hdf5_writer.hpp"
+#include "lem/line_fit.hpp"
 #include "lem/options.hpp"
 #include "lem/setup.hpp"
 #include "lem/tension_output.hpp"
@@ -32,17 +33,6 @@ std::pair<double, int> young_modulus(MPI_Comm comm, lem::SampleOptions sample,
   const auto solve = system.solve(3e-4 * lattice.mean_bond_length);
   const double unit = sample.random.stiffness / lattice.mean_bond_length;
   return {system.response().young_modulus / unit, solve.iterations};
-}
-
-// Least-squares line y = intercept + slope x.
-std::pair<double, double> fit_line(const std::vector<double>& x, const std::vector<double>& y) {
-  double sx = 0, sy = 0, sxx = 0, sxy = 0;
-  const double n = static_cast<double>(x.size());
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    sx += x[i], sy += y[i], sxx += x[i] * x[i], sxy += x[i] * y[i];
-  }
-  const double slope = (n * sxy - sx * sy) / (n * sxx - sx * sx);
-  return {(sy - slope * sx) / n, slope};
 }
 
 }  // namespace
@@ -101,8 +91,8 @@ int main(int argc, char** argv) {
     std::ostringstream fit;
     fit << "case,extrapolated_E_over_Em,alpha_E\n";
     if (ln.size() >= 2) {
-      const auto [s0, sa] = fit_line(ln, stiff);
-      const auto [p0, pa] = fit_line(ln, pore);
+      const auto s = lem::fit_line(ln, stiff), p = lem::fit_line(ln, pore);
+      const double s0 = s.intercept, sa = s.slope, p0 = p.intercept, pa = p.slope;
       fit << "stiff," << s0 << "," << sa << "\npore," << p0 << "," << pa << "\n";
       lem::say("linear fits E/E^[m] = E0 + alpha_E L_n:\n  stiff inclusions: E0 = %.4f, "
                "alpha_E = %.3f\n  pores:            E0 = %.4f, alpha_E = %.3f\n",

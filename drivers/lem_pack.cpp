@@ -2,6 +2,9 @@
 //
 //   lem_pack -pack_particles 4000 -pack_sample_particles 516 -output_dir results/packing
 //
+// -pack_particles defaults to "auto" (twice the cube's count, rounded to a
+// hundred: 1000 for the default 516).
+//
 // The packing is serial: rank 0 builds it, other ranks only take part in the
 // option handling and the error report.
 #include "lem/driver.hpp"
@@ -9,6 +12,7 @@
 #include "lem/hdf5_writer.hpp"
 #include "lem/options.hpp"
 #include "lem/packing.hpp"
+#include "lem/sample_options.hpp"
 #include "lem/tension_output.hpp"  // prepare_output_dir
 
 #include <cstdio>
@@ -67,43 +71,17 @@ std::string spheres_csv(const lem::CubeSample& cube, const lem::Packing& packing
 
 int main(int argc, char** argv) {
   return lem::run_driver(argc, argv, help, [](MPI_Comm comm) {
-    lem::PackingSpec spec;
+    lem::PackingSpec spec = lem::read_packing_spec(comm);
     std::int64_t sample = 0;
     std::string dir;
     bool write_box = false;
     lem::CubeCut cut = lem::CubeCut::centres_inside;
     {
-      lem::OptionGroup g(comm, "Packing");
-      spec.count = g.integer("-pack_particles", "Spheres in the periodic box", 1000, 20,
-                             50'000'000);
+      lem::OptionGroup g(comm, "Cubic sample and output");
       sample = g.integer("-pack_sample_particles",
                          "Sphere centres in the cubic sample (at most -pack_particles)", 516, 1,
                          50'000'000);
-      spec.d_min = g.real("-pack_dmin", "Smallest diameter", 1.0, 0.0, 1e6, true);
-      spec.d_max = g.real("-pack_dmax", "Largest diameter (>= d_min, <= 4 d_min)", 1.25, 0.0, 1e6,
-                          true);
-      spec.seed = static_cast<std::uint64_t>(
-          g.integer("-pack_seed", "Seed of the random diameters and start positions", 1, 0,
-                    2147483647));
-      const auto dist = g.choice("-pack_distribution", "Diameter distribution",
-                                 {"uniform_diameter", "uniform_volume"}, "uniform_diameter");
-      spec.distribution = dist == "uniform_volume" ? lem::SizeDistribution::uniform_volume
-                                                   : lem::SizeDistribution::uniform_diameter;
-      const auto law = g.choice("-pack_law", "Soft repulsion used to find the jammed state",
-                                {"linear", "hertz"}, "linear");
-      spec.law = law == "hertz" ? lem::ContactLaw::hertz : lem::ContactLaw::linear;
-      spec.fraction_tolerance =
-          g.real("-pack_tolerance", "Stop when jammed and unjammed volume fractions differ by "
-                 "less than this", 1e-5, 1e-9, 1e-2);
-      spec.initial_fraction = g.real("-pack_initial_fraction", "Volume fraction of the random "
-                                     "start", spec.initial_fraction, 0.05, 0.72);
-      spec.initial_step = g.real("-pack_initial_step", "First change of volume fraction between "
-                                 "jamming attempts", spec.initial_step, 0.0, 0.1, true);
-      spec.force_tolerance = g.real("-pack_force_tolerance", "A relaxation ends jammed when "
-                                    "the largest net force is below this times the mean "
-                                    "contact force", spec.force_tolerance, 0.0, 0.1, true);
-      spec.contact_gap = g.real("-pack_contact_gap", "Contact if the gap is below this times "
-                                "the mean diameter", 1e-3, 0.0, 0.5);
+      if (spec.count == 0) spec.count = lem::auto_packing_count(sample);
       cut = g.choice("-pack_cut", "Spheres of the cube: centres inside it, or also those "
                      "reaching in from outside", {"centres", "reaching"}, "centres") == "reaching"
                 ? lem::CubeCut::reaching_in

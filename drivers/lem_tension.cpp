@@ -2,13 +2,17 @@
 // modulus and Poisson ratio and writes a summary and the fields.
 //
 //   mpirun -n 2 lem_tension -lattice_bonds 1300000 -output_dir results/tension
+//   mpirun -n 2 lem_tension -sample_file meshes/demo.h5 -output_dir results/demo
 #include "lem/driver.hpp"
 #include "lem/options.hpp"
+#include "lem/setup.hpp"
 #include "lem/tension_output.hpp"
 
 static const char help[] =
     "Elastic uniaxial tension of a spring lattice (Affes et al., EPJE 35, 2012).\n"
-    "Bottom face u_z = 0, top face u_z = Delta, lateral faces free.\n";
+    "Bottom face u_z = 0, top face u_z = Delta, lateral faces free.\n"
+    "The sample is a generated lattice (-lattice_*, -inclusion_*) or a cemented sample\n"
+    "file from lem_sample (-sample_file, bond moduli -phase_E_*).\n";
 
 int main(int argc, char** argv) {
   return lem::run_driver(argc, argv, help, [](MPI_Comm comm) {
@@ -23,7 +27,8 @@ int main(int argc, char** argv) {
       dir = g.string("-output_dir", "Directory of the results", "results/tension");
       fields = g.flag("-output_fields", "Write nodes and bonds to HDF5/XDMF", true);
     }
-    lem::check_option_names({"lattice_", "fcc_", "inclusion_", "load_", "output_"});
+    lem::check_option_names({"lattice_", "fcc_", "inclusion_", "sample_", "phase_", "load_",
+                             "output_"});
     const auto provenance = lem::collect_provenance(comm, "lem_tension");
     lem::prepare_output_dir(comm, dir, {"summary.json", "summary.csv", "fields.h5", "fields.xmf"});
 
@@ -41,13 +46,38 @@ int main(int argc, char** argv) {
     const auto solve = system.solve(delta * lattice.mean_bond_length);
     lem::check_unused_options();
     const auto response = system.response();
-    const auto summary = lem::tension_summary(setup, lattice, sample.random.stiffness, response, solve);
-
-    const double unit = sample.random.stiffness / lattice.mean_bond_length;
+    // Moduli in units of k/a.  A sample file's bonds have k = E^phase a_s with
+    // a_s the mean length of all its bonds (void ones too, paper sect. 2.2),
+    // while `lattice` knows only the bonds in the system: choose k so that
+    // k/a = 1/a_s, i.e. E_eff comes out in the stress units of E^phase.
+    const bool from_file = !sample.sample_file.empty();
+    const double bond_k = from_file ? lattice.mean_bond_length / setup.sample.stats.mean_length
+                                    : sample.random.stiffness;
+    auto summary = lem::tension_summary(setup, lattice, bond_k, response, solve);
+    const double unit = bond_k / lattice.mean_bond_length;
+    const double e_p = sample.phases.modulus[static_cast<int>(lem::Phase::p)];
+    if (from_file) {
+      const auto& c = setup.sample.cemented;
+      lem::say("sample %s: %lld particles, rho_p %.4f, rho_m %.4f, rho_v %.4f; E^p %g, E^m %g, "
+               "E^pp %g, E^pm %g\n",
+               sample.sample_file.c_str(), (long long)c.particles, c.rho_p, c.rho_m, c.rho_v, e_p,
+               sample.phases.modulus[1], sample.phases.modulus[3], sample.phases.modulus[4]);
+      summary.add("sample_file", sample.sample_file);
+      summary.add("rho_p", c.rho_p);
+      summary.add("rho_m", c.rho_m);
+      summary.add("rho_v", c.rho_v);
+      summary.add("E_p", e_p, "stress");
+      summary.add("E_eff_over_E_p", response.young_modulus / unit / e_p);
+    }
     lem::say("solve: %d CG iterations, PC setup %.2f s, solve %.2f s\n", solve.iterations,
              solve.setup_seconds, solve.solve_seconds);
-    lem::say("E_eff = %.6g k/a   (affine estimate %.6g, appendix B 0.8485)\n",
-             response.young_modulus / unit, setup.sample.affine.young_z / unit);
+    if (from_file)
+      lem::say("E_eff = %.6g (units of E^phase) = %.6g E^p   (affine estimate %.6g E^p)\n",
+               response.young_modulus / unit, response.young_modulus / unit / e_p,
+               setup.sample.affine.young_z / unit / e_p);
+    else
+      lem::say("E_eff = %.6g k/a   (affine estimate %.6g, appendix B 0.8485)\n",
+               response.young_modulus / unit, setup.sample.affine.young_z / unit);
     lem::say("nu    = %.6g       (affine estimate %.6g)\n", response.poisson_ratio,
              setup.sample.affine.poisson_z);
     lem::say("energy 1/2 u.Ku = %.10g, work 1/2 F Delta = %.10g\n", response.stored_energy,

@@ -37,6 +37,8 @@ struct DistributedLattice {
   std::vector<std::array<int, 2>> bond_ends;  // local node indices
   std::vector<std::int64_t> bond_id;          // lattice bond id
   std::vector<double> bond_stiffness;         // current k (0 once broken)
+  std::vector<double> bond_strength;          // breaking force (empty: lattice had none)
+  std::vector<std::uint8_t> bond_tag;         // e.g. phase (empty: lattice had none)
   std::vector<char> bond_reported;            // this rank reports it in sums and files
 
   int local_nodes() const { return static_cast<int>(global_index.size()); }

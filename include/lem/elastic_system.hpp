@@ -83,6 +83,7 @@ class ElasticSystem {
   Vec b_ = nullptr;
   KSP ksp_ = nullptr;
   double diagonal_scale_ = 1.0;
+  double ground_ = 0.0;  // diagonal added on free dofs (-lattice_ground_stiffness)
   double current_displacement_ = 0.0;
   bool operator_changed_ = true;
 };

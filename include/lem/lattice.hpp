@@ -33,6 +33,10 @@ struct Lattice {
   std::vector<Point> nodes;
   std::vector<Bond> bonds;       // sorted, unique, i < j
   std::vector<double> stiffness; // Hooke constant k of each bond (absolute units)
+  /// Optional per bond (empty, or one per bond): breaking force (tension),
+  /// and a tag carried along for the results (the phase of a cemented sample).
+  std::vector<double> strength;
+  std::vector<std::uint8_t> tag;
 
   std::size_t node_count() const { return nodes.size(); }
   std::size_t bond_count() const { return bonds.size(); }
@@ -64,6 +68,10 @@ struct RandomLatticeSpec {
 /// minimum separation have about 7.7 bonds per node in the bulk, fewer at
 /// the faces).
 std::int64_t nodes_for_bond_count(std::int64_t bonds);
+
+/// Nodes a spec asks for: its node count, else from its bond count, else
+/// from its mesh density L_n = M^(-1/3).  Throws InputError if none is set.
+std::int64_t target_node_count(const RandomLatticeSpec& spec);
 
 /// Random points with a minimum separation, including points on the six faces,
 /// the twelve edges and the eight corners of the box (so that the loaded faces

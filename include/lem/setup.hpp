@@ -2,6 +2,7 @@
 // shares (lattice -> two-phase sample -> constraints -> partition -> scatter).
 #pragma once
 
+#include "lem/cemented_sample.hpp"
 #include "lem/distributed_lattice.hpp"
 #include "lem/inclusions.hpp"
 #include "lem/lattice.hpp"
@@ -14,9 +15,12 @@
 namespace lem {
 
 /// What a lattice sample is made of; read from the -lattice_* and
-/// -inclusion_* options.
+/// -inclusion_* options, or from a cemented sample file (-sample_file, with
+/// the bond moduli of -phase_*), which excludes the generation options.
 struct SampleOptions {
-  std::string lattice_type = "random";  // random | fcc
+  std::string lattice_type = "random";  // random | fcc | sample (set by -sample_file)
+  std::string sample_file;              // lem_sample's HDF5 file
+  PhaseTable phases;                    // bond moduli of a sample file's phases
   RandomLatticeSpec random;
   std::array<int, 3> fcc_cells{4, 4, 4};
   std::string inclusion_type = "none";  // none | stiff | pore
@@ -33,9 +37,12 @@ struct SampleInfo {
   double inclusion_fraction = 0;       // geometric, exact
   double inclusion_node_fraction = 0;  // share of nodes inside inclusions
   std::int64_t inclusion_count = 0;
+  CementedSampleStats cemented{};      // of a sample file (zero otherwise)
 };
 
-/// Build the sample on the calling rank (normally rank 0).
+/// Build (or read) the sample on the calling rank (normally rank 0).  A
+/// sample file's bonds get k = E^phase a with a the mean bond length of its
+/// whole lattice (void bonds included), as in the paper.
 Lattice build_sample(const SampleOptions& options, SampleInfo& info);
 
 /// Counts and timings of the set-up stages, identical on every rank.

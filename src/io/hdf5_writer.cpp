@@ -23,6 +23,7 @@
 #include <utility>
 
 #include "lem/error.hpp"
+#include "hdf5_util.hpp"
 
 #ifndef LEM_VERSION
 #define LEM_VERSION "unknown"
@@ -33,6 +34,8 @@
 
 namespace lem {
 namespace {
+
+using h5::Handle;
 
 namespace fs = std::filesystem;
 
@@ -143,49 +146,6 @@ void collective_step(MPI_Comm comm, const std::string& what, const std::function
 }
 
 // ---------------------------------------------------------------------------
-// HDF5 handles
-// ---------------------------------------------------------------------------
-
-/// Owns an HDF5 identifier and closes it with the matching H5?close.
-class Handle {
- public:
-  using Closer = herr_t (*)(hid_t);
-
-  Handle() = default;
-  Handle(hid_t id, Closer closer) : id_(id), closer_(closer) {}
-  ~Handle() { close(); }
-  Handle(const Handle&) = delete;
-  Handle& operator=(const Handle&) = delete;
-  Handle(Handle&& other) noexcept : id_(other.id_), closer_(other.closer_) {
-    other.id_ = H5I_INVALID_HID;
-  }
-  Handle& operator=(Handle&& other) noexcept {
-    if (this != &other) {
-      close();
-      id_ = other.id_;
-      closer_ = other.closer_;
-      other.id_ = H5I_INVALID_HID;
-    }
-    return *this;
-  }
-
-  [[nodiscard]] hid_t get() const { return id_; }
-  [[nodiscard]] bool valid() const { return id_ >= 0; }
-
-  /// Close now; returns false if HDF5 reported an error.
-  bool close() {
-    herr_t status = 0;
-    if (id_ >= 0 && closer_ != nullptr) status = closer_(id_);
-    id_ = H5I_INVALID_HID;
-    return status >= 0;
-  }
-
- private:
-  hid_t id_ = H5I_INVALID_HID;
-  Closer closer_ = nullptr;
-};
-
-// ---------------------------------------------------------------------------
 // Input validation
 // ---------------------------------------------------------------------------
 
@@ -238,9 +198,6 @@ void check_fields(const std::vector<Field>& fields, std::size_t items, const cha
     }
   }
 }
-
-const char* const kProvenanceNames[] = {"program", "version", "git_hash", "options", "start_time",
-                                        "ranks"};
 
 // ---------------------------------------------------------------------------
 // HDF5 writing
@@ -305,32 +262,6 @@ void write_dataset(MPI_Comm comm, hid_t group, const std::string& path, const st
   });
   collective_step(comm, "HDF5: cannot close dataset " + path + " in '" + file_name + "'",
                   [&] { return dataset.close(); });
-}
-
-bool write_string_attribute(hid_t location, const std::string& name, const std::string& value) {
-  Handle type(H5Tcopy(H5T_C_S1), H5Tclose);
-  if (!type.valid()) return false;
-  if (H5Tset_size(type.get(), H5T_VARIABLE) < 0) return false;
-  if (H5Tset_cset(type.get(), H5T_CSET_UTF8) < 0) return false;
-  Handle space(H5Screate(H5S_SCALAR), H5Sclose);
-  if (!space.valid()) return false;
-  Handle attribute(H5Acreate2(location, name.c_str(), type.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT),
-                   H5Aclose);
-  if (!attribute.valid()) return false;
-  const char* text = value.c_str();
-  if (H5Awrite(attribute.get(), type.get(), &text) < 0) return false;
-  return attribute.close();
-}
-
-bool write_numeric_attribute(hid_t location, const std::string& name, hid_t file_type,
-                             hid_t memory_type, const void* value) {
-  Handle space(H5Screate(H5S_SCALAR), H5Sclose);
-  if (!space.valid()) return false;
-  Handle attribute(H5Acreate2(location, name.c_str(), file_type, space.get(), H5P_DEFAULT, H5P_DEFAULT),
-                   H5Aclose);
-  if (!attribute.valid()) return false;
-  if (H5Awrite(attribute.get(), memory_type, value) < 0) return false;
-  return attribute.close();
 }
 
 struct GlobalLayout {
@@ -406,23 +337,11 @@ void write_hdf5(MPI_Comm comm, const std::string& path, const NodeSlice& nodes,
 
   // Root attributes (identical on every rank: the caller broadcast them).
   const hid_t root = file.get();
-  const std::pair<const char*, const std::string*> strings[] = {
-      {"program", &provenance.program},       {"version", &provenance.version},
-      {"git_hash", &provenance.git_hash},     {"options", &provenance.options},
-      {"start_time", &provenance.start_time},
-  };
-  for (const auto& entry : strings) {
-    collective_step(comm,
-                    std::string("HDF5: cannot write attribute '") + entry.first + "' in " + label,
-                    [&] { return write_string_attribute(root, entry.first, *entry.second); });
-  }
-  const std::int64_t ranks = provenance.ranks;
-  collective_step(comm, "HDF5: cannot write attribute 'ranks' in " + label, [&] {
-    return write_numeric_attribute(root, "ranks", H5T_STD_I64LE, H5T_NATIVE_INT64, &ranks);
-  });
+  collective_step(comm, "HDF5: cannot write the provenance attributes in " + label,
+                  [&] { return h5::write_provenance_attributes(root, provenance); });
   for (const auto& scalar : scalars) {
     collective_step(comm, "HDF5: cannot write attribute '" + scalar.first + "' in " + label, [&] {
-      return write_numeric_attribute(root, scalar.first, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE,
+      return h5::write_numeric_attribute(root, scalar.first, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE,
                                      &scalar.second);
     });
   }
@@ -441,85 +360,28 @@ void write_hdf5(MPI_Comm comm, const std::string& path, const NodeSlice& nodes,
 // XDMF
 // ---------------------------------------------------------------------------
 
-std::string xml_escape(const std::string& text) {
-  std::string out;
-  out.reserve(text.size());
-  for (char c : text) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      case '\'': out += "&apos;"; break;
-      default: out += c;
-    }
-  }
-  return out;
-}
-
-std::string dimensions(std::int64_t rows, int columns) {
-  return columns == 1 ? std::to_string(rows) : std::to_string(rows) + " " + std::to_string(columns);
-}
-
-void data_item(std::ostringstream& out, const std::string& indent, std::int64_t rows, int columns,
-               const char* number_type, const std::string& h5_name, const std::string& dataset) {
-  out << indent << "<DataItem Dimensions=\"" << dimensions(rows, columns) << "\" NumberType=\""
-      << number_type << "\" Precision=\"8\" Format=\"HDF\">" << xml_escape(h5_name) << ':'
-      << xml_escape(dataset) << "</DataItem>\n";
-}
-
-void attribute(std::ostringstream& out, const std::string& name, int components,
-               const char* center, std::int64_t rows, const char* number_type,
-               const std::string& h5_name, const std::string& dataset) {
-  out << "      <Attribute Name=\"" << xml_escape(name) << "\" AttributeType=\""
-      << (components == 3 ? "Vector" : "Scalar") << "\" Center=\"" << center << "\">\n";
-  data_item(out, "        ", rows, components, number_type, h5_name, dataset);
-  out << "      </Attribute>\n";
-}
+// ---------------------------------------------------------------------------
+// XDMF
+// ---------------------------------------------------------------------------
 
 std::string xdmf_text(const std::string& h5_name, const GlobalLayout& layout,
                       const std::vector<FieldInfo>& node_fields,
                       const std::vector<FieldInfo>& bond_fields) {
-  const std::int64_t n = layout.nodes;
-  const std::int64_t m = layout.bonds;
-  std::ostringstream out;
-  const auto geometry = [&] {
-    out << "      <Geometry GeometryType=\"XYZ\">\n";
-    data_item(out, "        ", n, 3, "Float", h5_name, "/nodes/coordinates");
-    out << "      </Geometry>\n";
+  const auto float_array = [](const std::string& group, const FieldInfo& f) {
+    return h5::XdmfArray{f.name, "/" + group + "/" + f.name, f.components, "Float", 8};
   };
-  const auto node_attributes = [&] {
-    for (const auto& f : node_fields)
-      attribute(out, f.name, f.components, "Node", n, "Float", h5_name, "/nodes/" + f.name);
-  };
-
-  out << "<?xml version=\"1.0\" ?>\n"
-      << "<Xdmf Version=\"3.0\">\n"
-      << "  <Domain>\n";
-
-  out << "    <Grid Name=\"nodes\" GridType=\"Uniform\">\n"
-      << "      <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << n
-      << "\" NodesPerElement=\"1\"/>\n";
-  geometry();
-  attribute(out, "id", 1, "Node", n, "Int", h5_name, "/nodes/id");
-  node_attributes();
-  out << "    </Grid>\n";
-
-  out << "    <Grid Name=\"bonds\" GridType=\"Uniform\">\n"
-      << "      <Topology TopologyType=\"Polyline\" NumberOfElements=\"" << m
-      << "\" NodesPerElement=\"2\">\n";
-  data_item(out, "        ", m, 2, "Int", h5_name, "/bonds/connectivity");
-  out << "      </Topology>\n";
-  geometry();
-  node_attributes();
-  attribute(out, "id", 1, "Cell", m, "Int", h5_name, "/bonds/id");
-  for (const auto& f : bond_fields)
-    attribute(out, f.name, f.components, "Cell", m, "Float", h5_name, "/bonds/" + f.name);
-  out << "    </Grid>\n";
-
-  out << "  </Domain>\n"
-      << "</Xdmf>\n";
-  return out.str();
+  h5::XdmfText x(h5_name);
+  x.begin_points("nodes", layout.nodes, "/nodes/coordinates");
+  x.attribute({"id", "/nodes/id", 1, "Int", 8}, "Node", layout.nodes);
+  for (const auto& f : node_fields) x.attribute(float_array("nodes", f), "Node", layout.nodes);
+  x.end_grid();
+  x.begin_polylines("bonds", layout.bonds, "/bonds/connectivity", layout.nodes,
+                    "/nodes/coordinates");
+  for (const auto& f : node_fields) x.attribute(float_array("nodes", f), "Node", layout.nodes);
+  x.attribute({"id", "/bonds/id", 1, "Int", 8}, "Cell", layout.bonds);
+  for (const auto& f : bond_fields) x.attribute(float_array("bonds", f), "Cell", layout.bonds);
+  x.end_grid();
+  return x.text();
 }
 
 // ---------------------------------------------------------------------------
@@ -571,6 +433,128 @@ std::string probe_writable(const std::string& path) {
 }
 
 }  // namespace
+
+// ---------------------------------------------------------------------------
+// Helpers shared with the other writers (hdf5_util.hpp)
+// ---------------------------------------------------------------------------
+
+namespace h5 {
+
+const char* const kProvenanceNames[6] = {"program", "version",    "git_hash",
+                                         "options", "start_time", "ranks"};
+
+bool write_string_attribute(hid_t location, const std::string& name, const std::string& value) {
+  Handle type(H5Tcopy(H5T_C_S1), H5Tclose);
+  if (!type.valid()) return false;
+  if (H5Tset_size(type.get(), H5T_VARIABLE) < 0) return false;
+  if (H5Tset_cset(type.get(), H5T_CSET_UTF8) < 0) return false;
+  Handle space(H5Screate(H5S_SCALAR), H5Sclose);
+  if (!space.valid()) return false;
+  Handle attribute(H5Acreate2(location, name.c_str(), type.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT),
+                   H5Aclose);
+  if (!attribute.valid()) return false;
+  const char* text = value.c_str();
+  if (H5Awrite(attribute.get(), type.get(), &text) < 0) return false;
+  return attribute.close();
+}
+
+bool write_numeric_attribute(hid_t location, const std::string& name, hid_t file_type,
+                             hid_t memory_type, const void* value) {
+  Handle space(H5Screate(H5S_SCALAR), H5Sclose);
+  if (!space.valid()) return false;
+  Handle attribute(H5Acreate2(location, name.c_str(), file_type, space.get(), H5P_DEFAULT, H5P_DEFAULT),
+                   H5Aclose);
+  if (!attribute.valid()) return false;
+  if (H5Awrite(attribute.get(), memory_type, value) < 0) return false;
+  return attribute.close();
+}
+
+bool write_provenance_attributes(hid_t location, const Provenance& provenance) {
+  const std::pair<const char*, const std::string*> strings[] = {
+      {"program", &provenance.program},       {"version", &provenance.version},
+      {"git_hash", &provenance.git_hash},     {"options", &provenance.options},
+      {"start_time", &provenance.start_time},
+  };
+  for (const auto& entry : strings)
+    if (!write_string_attribute(location, entry.first, *entry.second)) return false;
+  const std::int64_t ranks = provenance.ranks;
+  return write_numeric_attribute(location, "ranks", H5T_STD_I64LE, H5T_NATIVE_INT64, &ranks);
+}
+
+namespace {
+
+std::string xml_escape(const std::string& text) {
+  std::string out;
+  out.reserve(text.size());
+  for (char c : text) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      case '\'': out += "&apos;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+XdmfText::XdmfText(std::string h5_name) : h5_name_(std::move(h5_name)) {
+  out_ << "<?xml version=\"1.0\" ?>\n"
+       << "<Xdmf Version=\"3.0\">\n"
+       << "  <Domain>\n";
+}
+
+void XdmfText::data_item(std::int64_t rows, int columns, const char* number_type, int precision,
+                         const std::string& dataset) {
+  const std::string dims =
+      columns == 1 ? std::to_string(rows) : std::to_string(rows) + " " + std::to_string(columns);
+  out_ << "        <DataItem Dimensions=\"" << dims << "\" NumberType=\"" << number_type
+       << "\" Precision=\"" << precision << "\" Format=\"HDF\">" << xml_escape(h5_name_) << ':'
+       << xml_escape(dataset) << "</DataItem>\n";
+}
+
+void XdmfText::geometry(std::int64_t points, const std::string& coordinates) {
+  out_ << "      <Geometry GeometryType=\"XYZ\">\n";
+  data_item(points, 3, "Float", 8, coordinates);
+  out_ << "      </Geometry>\n";
+}
+
+void XdmfText::begin_points(const std::string& grid, std::int64_t points,
+                            const std::string& coordinates) {
+  out_ << "    <Grid Name=\"" << xml_escape(grid) << "\" GridType=\"Uniform\">\n"
+       << "      <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << points
+       << "\" NodesPerElement=\"1\"/>\n";
+  geometry(points, coordinates);
+}
+
+void XdmfText::begin_polylines(const std::string& grid, std::int64_t lines,
+                               const std::string& connectivity, std::int64_t points,
+                               const std::string& coordinates) {
+  out_ << "    <Grid Name=\"" << xml_escape(grid) << "\" GridType=\"Uniform\">\n"
+       << "      <Topology TopologyType=\"Polyline\" NumberOfElements=\"" << lines
+       << "\" NodesPerElement=\"2\">\n";
+  data_item(lines, 2, "Int", 8, connectivity);
+  out_ << "      </Topology>\n";
+  geometry(points, coordinates);
+}
+
+void XdmfText::attribute(const XdmfArray& a, const char* center, std::int64_t rows) {
+  out_ << "      <Attribute Name=\"" << xml_escape(a.name) << "\" AttributeType=\""
+       << (a.components == 3 ? "Vector" : "Scalar") << "\" Center=\"" << center << "\">\n";
+  data_item(rows, a.components, a.number_type, a.precision, a.dataset);
+  out_ << "      </Attribute>\n";
+}
+
+void XdmfText::end_grid() { out_ << "    </Grid>\n"; }
+
+std::string XdmfText::text() const {
+  return out_.str() + "  </Domain>\n</Xdmf>\n";
+}
+
+}  // namespace h5
 
 // ---------------------------------------------------------------------------
 // Public interface
@@ -661,7 +645,7 @@ void write_lattice_fields(MPI_Comm comm, const std::string& stem, const NodeSlic
     if (rank == 0)
       for (std::size_t i = 0; i < scalars.size(); ++i) values[i] = scalars[i].second;
     if (count > 0) MPI_Bcast(values.data(), static_cast<int>(count), MPI_DOUBLE, 0, comm);
-    std::set<std::string> names(std::begin(kProvenanceNames), std::end(kProvenanceNames));
+    std::set<std::string> names(std::begin(h5::kProvenanceNames), std::end(h5::kProvenanceNames));
     for (std::size_t i = 0; i < values.size(); ++i) {
       std::string name = broadcast_string(comm, rank == 0 ? scalars[i].first : std::string(), 0);
       if (name.empty() || !names.insert(name).second)

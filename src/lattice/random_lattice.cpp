@@ -76,13 +76,17 @@ std::int64_t nodes_for_bond_count(std::int64_t bonds) {
   return std::max<std::int64_t>(8, std::llround(n));
 }
 
+std::int64_t target_node_count(const RandomLatticeSpec& spec) {
+  if (spec.nodes > 0) return spec.nodes;
+  if (spec.bonds > 0) return nodes_for_bond_count(spec.bonds);
+  if (spec.mesh_density > 0)
+    return nodes_for_bond_count(std::llround(std::pow(spec.mesh_density, -3.0)));
+  throw InputError("random lattice: give a node count, a bond count or L_n > 0");
+}
+
 Lattice make_random_lattice(const RandomLatticeSpec& spec) {
   const Box& box = spec.box;
-  std::int64_t target = spec.nodes;
-  if (target <= 0 && spec.bonds > 0) target = nodes_for_bond_count(spec.bonds);
-  if (target <= 0 && spec.mesh_density > 0)
-    target = nodes_for_bond_count(std::llround(std::pow(spec.mesh_density, -3.0)));
-  if (target <= 0) throw InputError("random lattice: give a node count, a bond count or L_n > 0");
+  const std::int64_t target = target_node_count(spec);
   if (target > 200'000'000) throw InputError("random lattice: more than 2e8 nodes requested");
 
   const double spacing = std::cbrt(box.volume() / static_cast<double>(target));

@@ -158,7 +158,7 @@ AggregateGeometry::AggregateGeometry(const Box& box, std::vector<Sphere> particl
   }
 }
 
-std::vector<std::int32_t> AggregateGeometry::cell_items(const Point& x, bool bridges) const {
+const std::vector<std::int32_t>& AggregateGeometry::cell_items(const Point& x, bool bridges) const {
   int c[3];
   for (int a = 0; a < 3; ++a)
     c[a] = std::clamp(static_cast<int>(std::floor((x[a] - box_.lo[a]) / cell_)), 0, n_[a] - 1);
@@ -177,25 +177,35 @@ std::int32_t AggregateGeometry::particle_at(const Point& x) const {
   return -1;
 }
 
-std::int32_t AggregateGeometry::bridge_at(const Point& x) const {
-  for (std::int32_t k : cell_items(x, true)) {
-    const auto& b = bridges_[k];
-    const Sphere& p = particles_[b.i];
-    const Sphere& q = particles_[b.j];
-    double axis[3], rel[3], length2 = 0, s = 0, r2 = 0;
-    for (int a = 0; a < 3; ++a) {
-      axis[a] = q.centre[a] - p.centre[a];
-      rel[a] = x[a] - p.centre[a];
-      length2 += axis[a] * axis[a];
-      s += rel[a] * axis[a];
-      r2 += rel[a] * rel[a];
-    }
-    const double t = s / length2;  // axial position, 0 at p and 1 at q
-    if (t < 0 || t > 1) continue;
-    const double radius = b.lambda * (p.radius + (q.radius - p.radius) * t);
-    if (r2 - t * s <= radius * radius) return k;  // r2 - t*s = squared distance to the axis
+bool AggregateGeometry::in_bridge(std::int32_t k, const Point& x) const {
+  const auto& b = bridges_[k];
+  const Sphere& p = particles_[b.i];
+  const Sphere& q = particles_[b.j];
+  double axis[3], rel[3], length2 = 0, s = 0, r2 = 0;
+  for (int a = 0; a < 3; ++a) {
+    axis[a] = q.centre[a] - p.centre[a];
+    rel[a] = x[a] - p.centre[a];
+    length2 += axis[a] * axis[a];
+    s += rel[a] * axis[a];
+    r2 += rel[a] * rel[a];
   }
-  return -1;
+  const double t = s / length2;  // axial position, 0 at p and 1 at q
+  if (t < 0 || t > 1) return false;
+  const double radius = b.lambda * (p.radius + (q.radius - p.radius) * t);
+  return r2 - t * s <= radius * radius;  // r2 - t*s = squared distance to the axis
+}
+
+bool AggregateGeometry::matrix_at(const Point& x) const {
+  for (std::int32_t k : cell_items(x, true))
+    if (in_bridge(k, x)) return true;
+  return false;
+}
+
+std::vector<std::int32_t> AggregateGeometry::bridges_at(const Point& x) const {
+  std::vector<std::int32_t> found;
+  for (std::int32_t k : cell_items(x, true))
+    if (in_bridge(k, x)) found.push_back(k);
+  return found;
 }
 
 NodePhases AggregateGeometry::classify(const std::vector<Point>& nodes) const {

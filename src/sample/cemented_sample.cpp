@@ -6,14 +6,16 @@
 #include <mpi.h>
 
 #include <algorithm>
-#include <set>
+#include <numbers>
+#include <sstream>
+#include <vector>
 
 namespace lem {
 namespace {
 
 // Voronoi-weighted volume fractions of particle, matrix and void nodes.
-std::array<double, 3> phase_fractions(const NodePhases& np, const std::vector<double>& volume,
-                                      double total) {
+std::array<double, 3> node_fractions(const NodePhases& np, const std::vector<double>& volume,
+                                     double total) {
   std::array<double, 3> f{0, 0, 0};
   for (std::size_t n = 0; n < volume.size(); ++n)
     f[np.particle[n] >= 0 ? 0 : (np.matrix[n] ? 1 : 2)] += volume[n];
@@ -21,9 +23,38 @@ std::array<double, 3> phase_fractions(const NodePhases& np, const std::vector<do
   return f;
 }
 
+// Stop before meshing when the particles would be resolved by too few nodes.
+void check_resolution(const CementedSampleSpec& spec, const CubeSample& cube) {
+  double particle_volume = 0;
+  for (std::int64_t k = 0; k < cube.centres_inside; ++k)
+    particle_volume += 4.0 / 3.0 * std::numbers::pi * std::pow(cube.spheres[k].radius, 3);
+  particle_volume /= static_cast<double>(cube.centres_inside);
+  const double cube_volume = cube.side * cube.side * cube.side;
+  const double nodes = static_cast<double>(target_node_count(spec.lattice));
+  const double per_particle = nodes * particle_volume / cube_volume;
+  if (per_particle >= kMinNodesPerParticle) return;
+  const double bonds_needed = 7.5 * kMinNodesPerParticle * cube_volume / particle_volume;
+  std::ostringstream s;
+  s << "lattice too coarse for the particles: about " << static_cast<long long>(per_particle)
+    << " nodes per particle, at least " << kMinNodesPerParticle
+    << " needed; ask for at least " << static_cast<long long>(bonds_needed)
+    << " bonds (-lattice_bonds) for " << cube.centres_inside << " particles";
+  throw InputError(s.str());
+}
+
 }  // namespace
 
-CementedSample build_cemented_sample(const CementedSampleSpec& spec) {
+CementedSample build_granular_sample(const CementedSampleSpec& spec) {
+  if (spec.sample_particles < kMinSampleParticles)
+    throw InputError("a cubic sample needs at least " + std::to_string(kMinSampleParticles) +
+                     " particles, " + std::to_string(spec.sample_particles) + " requested");
+  if (spec.sample_particles > spec.packing.count)
+    throw InputError("the sample's " + std::to_string(spec.sample_particles) +
+                     " particles exceed the " + std::to_string(spec.packing.count) +
+                     " spheres of the packing it is cut from");
+  validate(spec.packing);
+  target_node_count(spec.lattice);  // a lattice size is given, before the packing runs
+
   CementedSample s;
   auto& st = s.stats;
   double t = MPI_Wtime();
@@ -31,8 +62,10 @@ CementedSample build_cemented_sample(const CementedSampleSpec& spec) {
   // Keep every sphere reaching into the cube: the sample then has the
   // packing's density (rho^p ~ 0.64) as in the paper.
   const CubeSample cube = cut_cube(packing, spec.sample_particles, CubeCut::reaching_in);
+  check_resolution(spec, cube);
   s.particles = cube.spheres;
   st.particles = static_cast<std::int64_t>(s.particles.size());
+  st.sample_particles = cube.centres_inside;
   st.side = cube.side;
   st.rho_p_geometric = cube.region_volume_fraction;
   st.packing_seconds = MPI_Wtime() - t;
@@ -50,57 +83,92 @@ CementedSample build_cemented_sample(const CementedSampleSpec& spec) {
   s.node_volume = voronoi_volumes(s.lattice);
   st.voronoi_seconds = MPI_Wtime() - t;
 
-  // Particle membership does not depend on the bridges: classify once, then
-  // measure the matrix on the remaining nodes for each trial bridge size.
   t = MPI_Wtime();
-  const double volume = ls.box.volume();
-  const AggregateGeometry bare(ls.box, s.particles, {});
-  const NodePhases particles_only = bare.classify(s.lattice.nodes);
+  s.node_phases = AggregateGeometry(ls.box, s.particles, {}).classify(s.lattice.nodes);
+  const auto inside = std::count_if(s.node_phases.particle.begin(), s.node_phases.particle.end(),
+                                    [](std::int32_t p) { return p >= 0; });
+  st.nodes_per_particle =
+      static_cast<double>(inside) / static_cast<double>(std::max<std::int64_t>(1, st.sample_particles));
+  st.phases_seconds = MPI_Wtime() - t;
+  return s;
+}
+
+void add_matrix(CementedSample& s, const BridgeSpec& spec) {
+  auto& st = s.stats;
+  const double t = MPI_Wtime();
+  const Box& box = s.lattice.box;
+  const double volume = box.volume();
+  // Particle membership does not depend on the bridges: measure the matrix
+  // on the other nodes only, for each trial bridge size.
+  std::vector<std::size_t> outside;
+  for (std::size_t n = 0; n < s.lattice.node_count(); ++n)
+    if (s.node_phases.particle[n] < 0) outside.push_back(n);
   auto measure = [&](const std::vector<Bridge>& bridges) {
-    const AggregateGeometry g(ls.box, s.particles, bridges);
+    const AggregateGeometry g(box, s.particles, bridges);
     double matrix = 0;
-    for (std::size_t n = 0; n < s.lattice.node_count(); ++n)
-      if (particles_only.particle[n] < 0 && g.matrix_at(s.lattice.nodes[n]))
-        matrix += s.node_volume[n];
+    for (std::size_t n : outside)
+      if (g.matrix_at(s.lattice.nodes[n])) matrix += s.node_volume[n];
     return matrix / volume;
   };
-  const MatrixCalibration cal = calibrate_bridges(ls.box, s.particles, spec.bridges, measure);
+  const MatrixCalibration cal = calibrate_bridges(box, s.particles, spec, measure);
   s.bridges = cal.bridges;
-  const AggregateGeometry geometry(ls.box, s.particles, s.bridges);
+  st.rho_m_requested = spec.matrix_fraction;
+  st.eligible_pairs = static_cast<std::int64_t>(s.bridges.size());
+  const AggregateGeometry geometry(box, s.particles, s.bridges);
   s.node_phases = geometry.classify(s.lattice.nodes);
 
-  s.bond_phase.resize(s.lattice.bond_count());
-  std::int64_t leaving = 0;  // bonds with exactly one end in a particle
-  for (std::size_t b = 0; b < s.lattice.bond_count(); ++b) {
+  // Bond phases, and each bond's share of the volume: every node spreads
+  // its Voronoi volume evenly over its bonds.
+  const std::size_t bonds = s.lattice.bond_count();
+  std::vector<int> degree(s.lattice.node_count(), 0);
+  for (const auto& b : s.lattice.bonds) ++degree[b.i], ++degree[b.j];
+  s.bond_phase.resize(bonds);
+  st.bonds_per_phase.fill(0);
+  st.bond_volume_fraction.fill(0);
+  std::int64_t leaving = 0;  // bond ends leaving a particle surface
+  for (std::size_t b = 0; b < bonds; ++b) {
     const auto& bond = s.lattice.bonds[b];
     const Phase phase = bond_phase(s.node_phases, bond.i, bond.j);
+    const int k = static_cast<int>(phase);
     s.bond_phase[b] = phase;
-    ++st.bonds_per_phase[static_cast<int>(phase)];
+    ++st.bonds_per_phase[k];
+    st.bond_volume_fraction[k] +=
+        (s.node_volume[bond.i] / degree[bond.i] + s.node_volume[bond.j] / degree[bond.j]) / volume;
     const bool pi = s.node_phases.particle[bond.i] >= 0, pj = s.node_phases.particle[bond.j] >= 0;
-    if (pi != pj || (pi && pj && phase == Phase::pp)) ++leaving;
+    if (pi != pj) ++leaving;
+    if (phase == Phase::pp) leaving += 2;  // leaves both particles
   }
-  const auto fractions = phase_fractions(s.node_phases, s.node_volume, volume);
+  const auto fractions = node_fractions(s.node_phases, s.node_volume, volume);
   st.rho_p = fractions[0];
   st.rho_m = fractions[1];
   st.rho_v = fractions[2];
-  st.bonds_per_particle =
-      static_cast<double>(st.bonds_per_phase[static_cast<int>(Phase::p)]) /
-      static_cast<double>(std::max<std::int64_t>(1, st.particles));
-  // pp bonds leave two particles (count both surfaces).
-  const auto pp = st.bonds_per_phase[static_cast<int>(Phase::pp)];
+  const double per = 1.0 / static_cast<double>(std::max<std::int64_t>(1, st.sample_particles));
+  st.bonds_per_particle = static_cast<double>(st.bonds_per_phase[static_cast<int>(Phase::p)]) * per;
   st.interface_ratio = static_cast<double>(st.bonds_per_phase[static_cast<int>(Phase::pm)]) /
-                       static_cast<double>(std::max<std::int64_t>(1, leaving + pp));
-  // Bridges that actually hold matrix nodes.
-  std::set<std::int32_t> holding;
+                       static_cast<double>(std::max<std::int64_t>(1, leaving));
+  // Bridges per particle: bridge ends on the particles whose centres are in
+  // the cube (the first sample_particles), per such particle.  A bridge is
+  // "holding" when it contains at least one matrix node (thin bridges hidden
+  // in a contact neck hold none).
+  std::vector<char> holding(s.bridges.size(), 0);
   for (std::size_t n = 0; n < s.lattice.node_count(); ++n)
-    if (s.node_phases.matrix[n]) {
-      const std::int32_t k = geometry.bridge_at(s.lattice.nodes[n]);
-      if (k >= 0) holding.insert(k);
-    }
-  st.bridges = static_cast<std::int64_t>(holding.size());
-  st.bridges_per_particle = 2.0 * static_cast<double>(holding.size()) /
-                            static_cast<double>(std::max<std::int64_t>(1, st.particles));
-  st.phases_seconds = MPI_Wtime() - t;
+    if (s.node_phases.matrix[n])
+      for (std::int32_t k : geometry.bridges_at(s.lattice.nodes[n])) holding[k] = 1;
+  std::int64_t eligible_ends = 0, holding_ends = 0;
+  for (std::size_t k = 0; k < s.bridges.size(); ++k) {
+    const int ends = (s.bridges[k].i < st.sample_particles) + (s.bridges[k].j < st.sample_particles);
+    eligible_ends += ends;
+    if (holding[k]) holding_ends += ends;
+  }
+  st.bridges = std::count(holding.begin(), holding.end(), 1);
+  st.eligible_per_particle = static_cast<double>(eligible_ends) * per;
+  st.bridges_per_particle = static_cast<double>(holding_ends) * per;
+  st.phases_seconds += MPI_Wtime() - t;
+}
+
+CementedSample build_cemented_sample(const CementedSampleSpec& spec) {
+  CementedSample s = build_granular_sample(spec);
+  add_matrix(s, spec.bridges);
   return s;
 }
 
@@ -111,10 +179,12 @@ Lattice mechanical_lattice(const CementedSample& sample, const PhaseTable& table
   l.nodes = sample.lattice.nodes;
   for (std::size_t b = 0; b < sample.lattice.bond_count(); ++b) {
     const int phase = static_cast<int>(sample.bond_phase[b]);
-    const double k = table.modulus[phase] * ls.mean_length;
+    const double a = ls.mean_length, k = table.modulus[phase] * a;
     if (sample.bond_phase[b] == Phase::v || k <= 0) continue;
     l.bonds.push_back(sample.lattice.bonds[b]);
     l.stiffness.push_back(k);
+    l.strength.push_back(table.strength[phase] * a * a);
+    l.tag.push_back(static_cast<std::uint8_t>(phase));
   }
   return l;
 }

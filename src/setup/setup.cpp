@@ -3,35 +3,55 @@
 #include "lem/error.hpp"
 #include "lem/options.hpp"
 #include "lem/partition.hpp"
+#include "lem/sample_file.hpp"
+#include "lem/sample_options.hpp"
 #include "lem/tension.hpp"
 
 #include <cstring>
 
 namespace lem {
 
+namespace {
+
+// Options that generate a lattice or change it: a sample file fixes both.
+const char* const kGenerationOptions[] = {
+    "-lattice_type", "-lattice_box", "-lattice_nodes", "-lattice_bonds", "-lattice_Ln",
+    "-lattice_min_separation", "-lattice_seed", "-lattice_k", "-fcc_cells", "-inclusion_type",
+    "-inclusion_fraction", "-inclusion_radius", "-inclusion_seed", "-inclusion_stiffness_ratio",
+    "-inclusion_void_bonds"};
+
+}  // namespace
+
 SampleOptions read_sample_options(MPI_Comm comm) {
   SampleOptions o;
+  {
+    OptionGroup g(comm, "Cemented sample file");
+    o.sample_file = g.string("-sample_file", "HDF5 sample written by lem_sample (e.g. "
+                             "meshes/tiny.h5); replaces the -lattice_* and -inclusion_* "
+                             "generation, bond moduli from -phase_E_*", "");
+    if (!o.sample_file.empty())
+      for (const char* name : kGenerationOptions)
+        if (g.given(name))
+          throw InputError("option " + std::string(name) + " cannot be combined with "
+                           "-sample_file '" + o.sample_file + "': the sample file fixes the "
+                           "lattice and its phases (bond moduli: -phase_E_*)");
+  }
+  o.phases = read_phase_table(comm);
+  if (o.sample_file.empty() && (o.phases.modulus != PhaseTable{}.modulus ||
+                                o.phases.strength != PhaseTable{}.strength))
+    throw InputError("options -phase_* set the bonds of a cemented sample and need "
+                     "-sample_file");
   {
     OptionGroup g(comm, "Lattice");
     o.lattice_type = g.choice("-lattice_type", "Lattice geometry", {"random", "fcc"}, "random");
     const auto box = g.positive_reals("-lattice_box", "Box side lengths Lx,Ly,Lz", {1.0, 1.0, 1.0});
     for (int a = 0; a < 3; ++a) o.random.box.hi[a] = box[a];
-    o.random.nodes = g.integer("-lattice_nodes", "Number of nodes of the random lattice (0: use "
-                               "-lattice_bonds or -lattice_Ln)", 0, 0, 200'000'000);
-    o.random.bonds = g.integer("-lattice_bonds", "Approximate number of bonds M (0: use "
-                               "-lattice_nodes or -lattice_Ln)", 0, 0, 2'000'000'000);
-    o.random.mesh_density = g.real("-lattice_Ln", "Mesh density L_n = M^(-1/3) (0: unused)", 0.0,
-                                   0.0, 0.5);
-    if (o.random.nodes == 0 && o.random.bonds == 0 && o.random.mesh_density == 0)
-      o.random.nodes = 20000;
-    o.random.min_separation = g.real("-lattice_min_separation", "Minimum node distance as a "
-                                     "fraction of the mean spacing", 0.5, 0.0, 0.8);
-    o.random.seed = static_cast<std::uint64_t>(
-        g.integer("-lattice_seed", "Random seed of the node positions", 1, 0, PETSC_MAX_INT));
+    if (!read_random_lattice_options(g, o.random)) o.random.nodes = 20000;
     o.random.stiffness = g.real("-lattice_k", "Hooke constant k of the bonds", 1.0, 0.0, 1e300, true);
     const int cells = static_cast<int>(g.integer("-fcc_cells", "FCC lattice: unit cells per axis",
                                                  4, 1, 400));
     o.fcc_cells = {cells, cells, cells};
+    if (!o.sample_file.empty()) o.lattice_type = "sample";
   }
   {
     OptionGroup g(comm, "Inclusions (two-phase samples)");
@@ -54,6 +74,15 @@ SampleOptions read_sample_options(MPI_Comm comm) {
 
 Lattice build_sample(const SampleOptions& o, SampleInfo& info) {
   Lattice lattice;
+  if (!o.sample_file.empty()) {
+    const CementedSample sample = read_sample(o.sample_file);
+    lattice = mechanical_lattice(sample, o.phases);
+    // Statistics (and a) of the whole lattice, void bonds included.
+    info.stats = lattice_stats(sample.lattice);
+    info.cemented = sample.stats;
+    info.affine = affine_moduli(lattice);
+    return lattice;
+  }
   if (o.lattice_type == "fcc") {
     // Bond length a = 1 (the cube side is sqrt 2).
     lattice = make_fcc_lattice(o.fcc_cells, 1.0, o.random.stiffness);

@@ -51,20 +51,23 @@ struct Piece {
   std::vector<std::uint8_t> dof_flags, faces;
   std::vector<std::array<int, 2>> bond_ends;
   std::vector<std::int64_t> bond_id;
-  std::vector<double> bond_stiffness;
+  std::vector<double> bond_stiffness, bond_strength;
+  std::vector<std::uint8_t> bond_tag;
   std::vector<char> bond_reported;
   std::vector<std::int64_t> owned;  // [owned count]
 
   std::vector<char> pack() const {
     Packer p;
     p.put(global_index), p.put(node_id), p.put(coords), p.put(dof_flags), p.put(faces);
-    p.put(bond_ends), p.put(bond_id), p.put(bond_stiffness), p.put(bond_reported), p.put(owned);
+    p.put(bond_ends), p.put(bond_id), p.put(bond_stiffness), p.put(bond_strength), p.put(bond_tag);
+    p.put(bond_reported), p.put(owned);
     return std::move(p.bytes);
   }
   void unpack(const std::vector<char>& bytes) {
     Unpacker u(bytes);
     u.get(global_index), u.get(node_id), u.get(coords), u.get(dof_flags), u.get(faces);
-    u.get(bond_ends), u.get(bond_id), u.get(bond_stiffness), u.get(bond_reported), u.get(owned);
+    u.get(bond_ends), u.get(bond_id), u.get(bond_stiffness), u.get(bond_strength), u.get(bond_tag);
+    u.get(bond_reported), u.get(owned);
   }
 };
 
@@ -103,6 +106,8 @@ Piece make_piece(int r, const Lattice& lattice, const TensionConstraints& tc,
     piece.bond_ends.push_back({local(bond.i), local(bond.j)});
     piece.bond_id.push_back(b);
     piece.bond_stiffness.push_back(lattice.stiffness[b]);
+    if (!lattice.strength.empty()) piece.bond_strength.push_back(lattice.strength[b]);
+    if (!lattice.tag.empty()) piece.bond_tag.push_back(lattice.tag[b]);
     const std::int64_t low = std::min(partition.new_index[bond.i], partition.new_index[bond.j]);
     piece.bond_reported.push_back(low >= begin && low < end ? 1 : 0);
   }
@@ -189,6 +194,8 @@ DistributedLattice distribute_lattice(MPI_Comm comm, const Lattice& lattice,
   dl.bond_ends = std::move(piece.bond_ends);
   dl.bond_id = std::move(piece.bond_id);
   dl.bond_stiffness = std::move(piece.bond_stiffness);
+  dl.bond_strength = std::move(piece.bond_strength);
+  dl.bond_tag = std::move(piece.bond_tag);
   dl.bond_reported = std::move(piece.bond_reported);
   return dl;
 }

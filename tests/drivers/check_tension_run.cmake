@@ -1,8 +1,19 @@
 # A small elastic tension run at 2 ranks must finish and write every result
 # file, with E and nu in the summary.
+#   -DRUN="mpiexec ... lem_tension" -DDIR=<output dir>
+#   optional: -DARGS="<sample options>" (default a 3000-node random lattice),
+#   plausible ranges -DE_MIN/-DE_MAX/-DNU_MIN/-DNU_MAX.
+foreach(v "ARGS;-lattice_nodes 3000" "E_MIN;1.0" "E_MAX;4.0" "NU_MIN;0.1" "NU_MAX;0.35")
+  list(GET v 0 name)
+  list(GET v 1 default)
+  if(NOT DEFINED ${name})
+    set(${name} "${default}")
+  endif()
+endforeach()
 file(REMOVE_RECURSE ${DIR})
 separate_arguments(RUN UNIX_COMMAND "${RUN}")
-execute_process(COMMAND ${RUN} -lattice_nodes 3000 -output_dir ${DIR}
+separate_arguments(ARGS UNIX_COMMAND "${ARGS}")
+execute_process(COMMAND ${RUN} ${ARGS} -output_dir ${DIR}
                 RESULT_VARIABLE status OUTPUT_VARIABLE out ERROR_VARIABLE err)
 if(NOT status EQUAL 0)
   message(FATAL_ERROR "lem_tension failed (${status}):\n${out}\n${err}")
@@ -16,7 +27,7 @@ file(READ ${DIR}/summary.json json)
 string(JSON e GET ${json} E_eff)
 string(JSON nu GET ${json} nu)
 string(JSON gap GET ${json} energy_relative_gap)
-if(e LESS 1.0 OR e GREATER 4.0 OR nu LESS 0.1 OR nu GREATER 0.35 OR gap GREATER 1e-6)
+if(e LESS E_MIN OR e GREATER E_MAX OR nu LESS NU_MIN OR nu GREATER NU_MAX OR gap GREATER 1e-6)
   message(FATAL_ERROR "implausible results: E_eff=${e} nu=${nu} energy gap=${gap}")
 endif()
 message(STATUS "E_eff=${e} nu=${nu} energy gap=${gap}")

@@ -41,10 +41,15 @@ Lattice random_lattice(std::int64_t nodes, std::uint64_t seed = 5) {
 class Elastic : public ::testing::Test {
  protected:
   void SetUp() override {
-    // Tight tolerance: these tests compare numbers at the 1e-6 level.
+    // Tight tolerance: these tests compare numbers at the 1e-6 level; and
+    // the exact lattice, without the regularising ground springs.
     PetscOptionsSetValue(nullptr, "-ksp_rtol", "1e-12");
+    PetscOptionsSetValue(nullptr, "-lattice_ground_stiffness", "0");
   }
-  void TearDown() override { PetscOptionsClearValue(nullptr, "-ksp_rtol"); }
+  void TearDown() override {
+    PetscOptionsClearValue(nullptr, "-ksp_rtol");
+    PetscOptionsClearValue(nullptr, "-lattice_ground_stiffness");
+  }
 };
 
 }  // namespace
@@ -186,4 +191,44 @@ TEST_F(Elastic, SameAnswerOnAllRanksAndOnOne) {
     for (int a = 0; a < 3; ++a)
       worst = std::max(worst, std::fabs(dw[n][a] - serial.at(wide.lattice.node_id[n])[a]));
   EXPECT_LT(worst, 1e-8 * 2e-4);
+}
+
+TEST_F(Elastic, GroundSpringsRemoveHingedClustersWithoutChangingTheModulus) {
+  // A random lattice, and the same with a rigid tetrahedron of extra nodes
+  // hanging from one interior node: the appendage can rotate freely about
+  // the hinge (three zero-energy modes), carries no force, and must not
+  // change E.  The default ground springs make K definite.
+  const Lattice base = random_lattice(2000, 11);
+  Lattice hinged = base;
+  const Point centre{0.5, 0.5, 0.5};
+  std::int32_t hinge = 0;
+  double best = 1e9;
+  for (std::size_t n = 0; n < base.node_count(); ++n) {
+    double d = 0;
+    for (int a = 0; a < 3; ++a) d += std::pow(base.nodes[n][a] - centre[a], 2);
+    if (d < best) best = d, hinge = static_cast<std::int32_t>(n);
+  }
+  const double h = 0.02;
+  const std::int32_t first = static_cast<std::int32_t>(hinged.node_count());
+  for (const Point& o : {Point{h, 0, 0}, Point{0, h, 0}, Point{0, 0, h}})
+    hinged.nodes.push_back({base.nodes[hinge][0] + o[0], base.nodes[hinge][1] + o[1],
+                            base.nodes[hinge][2] + o[2]});
+  const std::int32_t tet[4] = {hinge, first, first + 1, first + 2};
+  for (int i = 0; i < 4; ++i)
+    for (int j = i + 1; j < 4; ++j) {
+      hinged.bonds.push_back({tet[i], tet[j]});
+      hinged.stiffness.push_back(1.0);
+    }
+  PetscOptionsClearValue(nullptr, "-lattice_ground_stiffness");  // the default
+  auto modulus = [](const Lattice& l) {
+    Problem p = make_problem(PETSC_COMM_WORLD, [&] { return l; });
+    ElasticSystem system(p.lattice);
+    system.assemble();
+    system.solve(1e-4);
+    return system.response().young_modulus;
+  };
+  const double e_base = modulus(base), e_hinged = modulus(hinged);
+  EXPECT_NEAR(e_hinged / e_base, 1.0, 1e-6);
+  PetscOptionsSetValue(nullptr, "-lattice_ground_stiffness", "0");
+  EXPECT_NEAR(modulus(base) / e_base, 1.0, 1e-6);  // the springs do not show
 }

@@ -1,6 +1,7 @@
 // A small cemented sample end to end: packing -> cube -> lattice -> Voronoi
 // volumes -> calibrated bridges -> phases.
 #include "lem/cemented_sample.hpp"
+#include "lem/error.hpp"
 
 #include <gtest/gtest.h>
 
@@ -61,4 +62,69 @@ TEST(CementedSample, MechanicalLatticeDropsVoidBondsAndUsesPhaseModuli) {
     const bool known = std::fabs(k - 3 * a) < 1e-12 || std::fabs(k - a) < 1e-12;
     ASSERT_TRUE(known) << k;
   }
+}
+
+TEST(CementedSample, BondVolumesPartitionTheCubeAndFollowTheNodes) {
+  const auto& s = small_sample();
+  double total = 0;
+  for (double f : s.stats.bond_volume_fraction) total += f;
+  EXPECT_NEAR(total, 1.0, 1e-10);
+  // Interface bonds take a share of the particles' volume (at this coarse
+  // resolution a large one): fewer p bonds by volume than particle nodes.
+  const auto& f = s.stats.bond_volume_fraction;
+  EXPECT_LT(f[int(Phase::p)], s.stats.rho_p);
+  EXPECT_GT(f[int(Phase::p)] + f[int(Phase::pp)] + f[int(Phase::pm)], 0.5 * s.stats.rho_p);
+  EXPECT_GT(f[int(Phase::pp)], 0.0);
+  EXPECT_LT(f[int(Phase::pp)], 0.1);
+}
+
+TEST(CementedSample, MatrixStageCanBeRepeatedOnTheSameGeometry) {
+  CementedSample s = small_sample();
+  const auto p_before = s.stats.rho_p;
+  BridgeSpec more;
+  more.matrix_fraction = 0.2;
+  add_matrix(s, more);
+  EXPECT_NEAR(s.stats.rho_m, 0.2, 0.2e-3);
+  EXPECT_DOUBLE_EQ(s.stats.rho_p, p_before);  // particles untouched
+  EXPECT_GT(s.stats.interface_ratio, small_sample().stats.interface_ratio);  // more coverage
+  BridgeSpec back;
+  back.matrix_fraction = 0.13;
+  add_matrix(s, back);
+  EXPECT_EQ(s.bond_phase, small_sample().bond_phase);  // nothing left over from 0.2
+}
+
+TEST(CementedSample, ReproducibleWithSeeds) {
+  CementedSampleSpec spec;
+  spec.packing.count = 100;
+  spec.packing.seed = 5;
+  spec.sample_particles = 27;
+  spec.lattice.bonds = 20000;
+  const CementedSample a = build_cemented_sample(spec), b = build_cemented_sample(spec);
+  EXPECT_EQ(a.lattice.nodes, b.lattice.nodes);
+  EXPECT_EQ(a.bond_phase, b.bond_phase);
+  ASSERT_EQ(a.bridges.size(), b.bridges.size());
+  for (std::size_t k = 0; k < a.bridges.size(); ++k) EXPECT_EQ(a.bridges[k].lambda, b.bridges[k].lambda);
+  spec.packing.seed = 6;
+  EXPECT_NE(build_cemented_sample(spec).particles[0].centre, a.particles[0].centre);
+}
+
+TEST(CementedSample, TooSmallOrTooCoarseIsAnInputError) {
+  CementedSampleSpec spec;
+  spec.packing.count = 100;
+  spec.lattice.bonds = 20000;
+  spec.sample_particles = 4;
+  EXPECT_THROW(build_granular_sample(spec), InputError);
+  spec.sample_particles = 200;  // more than the packing holds
+  EXPECT_THROW(build_granular_sample(spec), InputError);
+  spec.sample_particles = 64;
+  spec.lattice.bonds = 5000;  // ~10 nodes per particle
+  try {
+    build_granular_sample(spec);
+    FAIL() << "a coarse lattice was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("too coarse"), std::string::npos) << e.what();
+  }
+  spec.lattice.bonds = 40000;
+  spec.packing.d_max = 0.9;  // below d_min
+  EXPECT_THROW(build_granular_sample(spec), InputError);
 }

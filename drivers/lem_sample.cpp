@@ -1,0 +1,129 @@
+// Build a cemented granular sample and write it to a sample file that
+// lem_tension (-sample_file) and the other mechanical drivers load.
+//
+//   lem_sample -sample_particles 516 -lattice_bonds 1300000 -matrix_fraction 0.13
+//   lem_sample -sample_particles 64 -output_dir meshes -output_stem tiny
+//
+// The sample is built serially on rank 0; other ranks only take part in the
+// option handling and the error report.
+#include "lem/cemented_sample.hpp"
+#include "lem/driver.hpp"
+#include "lem/error.hpp"
+#include "lem/hdf5_writer.hpp"
+#include "lem/options.hpp"
+#include "lem/sample_file.hpp"
+#include "lem/sample_options.hpp"
+#include "lem/summary.hpp"
+#include "lem/tension_output.hpp"  // prepare_output_dir
+
+#include <string>
+
+static const char help[] =
+    "Cemented granular sample (Affes et al., EPJE 35, 2012, sect. 2.2-2.3):\n"
+    "  1. a jammed periodic packing of polydisperse spheres (-pack_*),\n"
+    "  2. a cube holding -sample_particles sphere centres (spheres reaching in are kept),\n"
+    "  3. a random Delaunay lattice in the cube (-lattice_*) and its clipped Voronoi volumes,\n"
+    "  4. matrix bridges between near particles (-matrix_*), calibrated so that the matrix\n"
+    "     volume measured on the lattice is -matrix_fraction,\n"
+    "  5. node phases (particle/matrix/void) and bond phases (p, m, v, pp, pm).\n"
+    "Writes <output_dir>/<output_stem>.h5 and .xmf (open in ParaView) and a summary.\n";
+
+namespace {
+
+lem::Summary sample_summary(const lem::CementedSampleStats& st, const lem::CementedSampleSpec& spec,
+                            const std::string& file) {
+  lem::Summary sum;
+  sum.add("sample_file", file);
+  sum.add("particles", static_cast<long long>(st.particles));
+  sum.add("sample_particles", static_cast<long long>(spec.sample_particles));
+  sum.add("side", st.side, "d_min");
+  sum.add("nodes", static_cast<long long>(st.nodes));
+  sum.add("bonds", static_cast<long long>(st.bonds));
+  sum.add("nodes_per_particle", st.nodes_per_particle);
+  sum.add("rho_p_geometric", st.rho_p_geometric);
+  sum.add("rho_p", st.rho_p);
+  sum.add("rho_m_requested", spec.bridges.matrix_fraction);
+  sum.add("rho_m", st.rho_m);
+  sum.add("rho_v", st.rho_v);
+  for (int k = 0; k < lem::kPhaseCount; ++k)
+    sum.add(std::string("bonds_") + lem::phase_name(static_cast<lem::Phase>(k)),
+            static_cast<long long>(st.bonds_per_phase[k]));
+  sum.add("bonds_per_particle", st.bonds_per_particle);
+  sum.add("eligible_pairs", static_cast<long long>(st.eligible_pairs));
+  sum.add("eligible_per_particle", st.eligible_per_particle);
+  sum.add("bridges", static_cast<long long>(st.bridges));
+  sum.add("bridges_per_particle", st.bridges_per_particle);
+  sum.add("interface_ratio_Spm_Sp", st.interface_ratio);
+  sum.add("packing_seed", static_cast<long long>(spec.packing.seed));
+  sum.add("packing_particles", static_cast<long long>(spec.packing.count));
+  sum.add("lattice_seed", static_cast<long long>(spec.lattice.seed));
+  sum.add("matrix_max_gap", spec.bridges.max_gap / spec.packing.d_min, "d_min");
+  sum.add("seconds_packing", st.packing_seconds, "s");
+  sum.add("seconds_lattice", st.lattice_seconds, "s");
+  sum.add("seconds_voronoi", st.voronoi_seconds, "s");
+  sum.add("seconds_phases", st.phases_seconds, "s");
+  return sum;
+}
+
+void report(const lem::CementedSampleStats& st, const lem::CementedSampleSpec& spec) {
+  lem::say("sample: %lld spheres (%lld centres inside), side %.5g d_min; %lld nodes, %lld bonds "
+           "(%.0f nodes per particle)\n",
+           (long long)st.particles, (long long)spec.sample_particles, st.side,
+           (long long)st.nodes, (long long)st.bonds, st.nodes_per_particle);
+  lem::say("rho_p %.4f geometric, %.4f on the lattice; rho_m %.4f requested, %.4f on the "
+           "lattice; rho_v %.4f\n",
+           st.rho_p_geometric, st.rho_p, spec.bridges.matrix_fraction, st.rho_m, st.rho_v);
+  lem::say("bonds per phase:");
+  for (int k = 0; k < lem::kPhaseCount; ++k)
+    lem::say("  %s %lld", lem::phase_name(static_cast<lem::Phase>(k)),
+             (long long)st.bonds_per_phase[k]);
+  lem::say("\n");
+  lem::say("p bonds per particle %.0f (paper ~1550); %lld eligible pairs (%.1f per particle), "
+           "%lld bridges holding matrix, %.1f per particle (paper ~9); S^pm/S^p %.3f\n",
+           st.bonds_per_particle, (long long)st.eligible_pairs, st.eligible_per_particle,
+           (long long)st.bridges, st.bridges_per_particle, st.interface_ratio);
+  lem::say("time: packing %.2f s, lattice %.2f s, Voronoi %.2f s, matrix and phases %.2f s\n",
+           st.packing_seconds, st.lattice_seconds, st.voronoi_seconds, st.phases_seconds);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return lem::run_driver(argc, argv, help, [](MPI_Comm comm) {
+    const lem::CementedSampleSpec spec = lem::read_cemented_sample_spec(comm);
+    std::string dir, stem;
+    {
+      lem::OptionGroup g(comm, "Output");
+      dir = g.string("-output_dir", "Directory of the results", "results/sample");
+      stem = g.string("-output_stem", "Name of the sample files in -output_dir (<stem>.h5, "
+                      "<stem>.xmf; summaries summary.json/.csv for the default, else "
+                      "<stem>_summary.json/.csv)", "sample");
+    }
+    lem::check_option_names({"pack_", "sample_", "lattice_", "matrix_", "output_"});
+    if (stem.empty() || stem.find('/') != std::string::npos)
+      throw lem::InputError("option -output_stem = '" + stem + "' must be a plain file name "
+                            "(no '/'; the directory is -output_dir)");
+    const std::string summary_stem = stem == "sample" ? "summary" : stem + "_summary";
+    lem::validate(spec.packing);
+    lem::prepare_output_dir(comm, dir, {stem + ".h5", stem + ".xmf", summary_stem + ".json",
+                                        summary_stem + ".csv"});
+    const auto provenance = lem::collect_provenance(comm, "lem_sample");
+
+    lem::run_on_root(comm, [&] {
+      lem::say("packing %lld spheres (seed %llu), cube of %lld centres, lattice seed %llu, "
+               "matrix fraction %g\n",
+               (long long)spec.packing.count, (unsigned long long)spec.packing.seed,
+               (long long)spec.sample_particles, (unsigned long long)spec.lattice.seed,
+               spec.bridges.matrix_fraction);
+      const lem::CementedSample sample = lem::build_cemented_sample(spec);
+      report(sample.stats, spec);
+      const std::string path = dir + "/" + stem;
+      lem::write_sample(path, sample, spec, provenance);
+      const lem::Summary summary = sample_summary(sample.stats, spec, path + ".h5");
+      lem::write_text_file_atomically(dir + "/" + summary_stem + ".csv", summary.csv());
+      lem::write_text_file_atomically(dir + "/" + summary_stem + ".json", summary.json());
+    });
+    lem::say("results in %s/: %s.h5, %s.xmf (ParaView), %s.json/.csv\n", dir.c_str(),
+             stem.c_str(), stem.c_str(), summary_stem.c_str());
+  });
+}

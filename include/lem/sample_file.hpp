@@ -1,0 +1,50 @@
+// The cemented sample file: everything build_cemented_sample produced, so
+// that a sample is built once and loaded by any number of mechanical runs.
+//
+// <stem>.h5 (serial HDF5, gzip-compressed chunks):
+//   /nodes/coordinates (N x 3 f64), /nodes/volume (N f64, clipped Voronoi),
+//   /nodes/particle (N int32, -1 outside every particle),
+//   /nodes/phase (N uint8: 0 particle, 1 matrix, 2 void)
+//   /bonds/connectivity (M x 2 int64, i < j), /bonds/phase (M uint8, lem::Phase),
+//   /bonds/stiffness (M f64, as built, before the phase table is applied)
+//   /particles/centres (P x 3), /particles/radii (P)
+//   /bridges/particles (B x 2 int32), /bridges/lambda (B)
+//   root attributes: format = "lem-cemented-sample", format_version = 1,
+//   box_lo / box_hi, every CementedSampleStats field (bonds_per_phase as
+//   bonds_p, bonds_m, ...; a statistic newer than the file reads as 0), the spec (packing_*, sample_particles,
+//   lattice_*, matrix_*) and the provenance.
+// <stem>.xmf: grid "nodes" (phase, particle, volume), grid "bonds" (phase),
+//   grid "particles" (radius), for ParaView.
+#pragma once
+
+#include "lem/cemented_sample.hpp"
+#include "lem/hdf5_writer.hpp"  // Provenance
+
+#include <string>
+
+namespace lem {
+
+inline constexpr const char* kSampleFormat = "lem-cemented-sample";
+inline constexpr int kSampleFormatVersion = 1;
+
+/// Write <stem>.h5 and <stem>.xmf, each under a temporary name renamed into
+/// place when complete.  Serial: call on one rank.  Throws InputError if the
+/// files cannot be written.
+void write_sample(const std::string& stem, const CementedSample& sample,
+                  const CementedSampleSpec& spec, const Provenance& provenance);
+
+/// A sample file's whole content.
+struct SampleFile {
+  CementedSample sample;
+  CementedSampleSpec spec;
+  Provenance provenance;  // of the run that built the sample
+};
+
+/// Read and check a sample file (serial).  Throws InputError naming the file
+/// if it does not exist, is not HDF5, is not a sample file, has another
+/// format version, or is corrupt (missing datasets, inconsistent sizes,
+/// indices or phase codes out of range).
+SampleFile read_sample_file(const std::string& path);
+CementedSample read_sample(const std::string& path);
+
+}  // namespace lem

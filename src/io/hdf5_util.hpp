@@ -1,0 +1,99 @@
+// HDF5 and XDMF pieces shared by the writers in src/io (lattice fields,
+// sample files).  Private to the io module: it exposes HDF5 types.
+#pragma once
+
+#include "lem/hdf5_writer.hpp"  // Provenance
+
+#include <hdf5.h>
+
+#include <cstdint>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace lem::h5 {
+
+/// Owns an HDF5 identifier and closes it with the matching H5?close.
+class Handle {
+ public:
+  using Closer = herr_t (*)(hid_t);
+
+  Handle() = default;
+  Handle(hid_t id, Closer closer) : id_(id), closer_(closer) {}
+  ~Handle() { close(); }
+  Handle(const Handle&) = delete;
+  Handle& operator=(const Handle&) = delete;
+  Handle(Handle&& other) noexcept : id_(other.id_), closer_(other.closer_) {
+    other.id_ = H5I_INVALID_HID;
+  }
+  Handle& operator=(Handle&& other) noexcept {
+    if (this != &other) {
+      close();
+      id_ = other.id_;
+      closer_ = other.closer_;
+      other.id_ = H5I_INVALID_HID;
+    }
+    return *this;
+  }
+
+  [[nodiscard]] hid_t get() const { return id_; }
+  [[nodiscard]] bool valid() const { return id_ >= 0; }
+
+  /// Close now; returns false if HDF5 reported an error.
+  bool close() {
+    herr_t status = 0;
+    if (id_ >= 0 && closer_ != nullptr) status = closer_(id_);
+    id_ = H5I_INVALID_HID;
+    return status >= 0;
+  }
+
+ private:
+  hid_t id_ = H5I_INVALID_HID;
+  Closer closer_ = nullptr;
+};
+
+/// Scalar attributes of `location`; false if HDF5 reported an error.
+bool write_string_attribute(hid_t location, const std::string& name, const std::string& value);
+bool write_numeric_attribute(hid_t location, const std::string& name, hid_t file_type,
+                             hid_t memory_type, const void* value);
+
+/// The provenance strings and the rank count as attributes of `location`.
+bool write_provenance_attributes(hid_t location, const Provenance& provenance);
+
+/// Names of the provenance attributes (reserved for nothing else).
+extern const char* const kProvenanceNames[6];
+
+/// One HDF5 dataset shown as an XDMF attribute.
+struct XdmfArray {
+  std::string name;                   // as ParaView shows it
+  std::string dataset;                // e.g. "/nodes/phase"
+  int components = 1;                 // 1 (scalar) or 3 (vector)
+  const char* number_type = "Float";  // XDMF NumberType: Float, Int, UChar, ...
+  int precision = 8;                  // bytes per value
+};
+
+/// An XDMF 3 document over one HDF5 file: grids of points (Polyvertex) and
+/// of two-node polylines sharing a coordinates dataset.
+class XdmfText {
+ public:
+  explicit XdmfText(std::string h5_name);
+  void begin_points(const std::string& grid, std::int64_t points, const std::string& coordinates);
+  /// Polylines whose ends are rows of `coordinates` (`points` rows).
+  void begin_polylines(const std::string& grid, std::int64_t lines,
+                       const std::string& connectivity, std::int64_t points,
+                       const std::string& coordinates);
+  /// center: "Node" (one value per point) or "Cell" (one per polyline).
+  void attribute(const XdmfArray& array, const char* center, std::int64_t rows);
+  void end_grid();
+  /// The whole document (closes the domain).
+  std::string text() const;
+
+ private:
+  void data_item(std::int64_t rows, int columns, const char* number_type, int precision,
+                 const std::string& dataset);
+  void geometry(std::int64_t points, const std::string& coordinates);
+  std::string h5_name_;
+  std::ostringstream out_;
+};
+
+}  // namespace lem::h5

@@ -1,0 +1,559 @@
+// The cemented sample file (see lem/sample_file.hpp): serial HDF5 with
+// compressed chunks, an XDMF description, and a reader that checks
+// everything it loads so that a wrong or damaged file is one clear message.
+#include "lem/sample_file.hpp"
+
+#include "hdf5_util.hpp"
+#include "lem/error.hpp"
+
+#include <hdf5.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <limits>
+#include <stdexcept>
+#include <system_error>
+#include <type_traits>
+
+namespace lem {
+namespace {
+
+namespace fs = std::filesystem;
+using h5::Handle;
+
+/// Silences HDF5's automatic error-stack printing for its lifetime: every
+/// failure is reported by our own message instead.
+class QuietHdf5 {
+ public:
+  QuietHdf5() {
+    H5Eget_auto2(H5E_DEFAULT, &function_, &data_);
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  }
+  ~QuietHdf5() { H5Eset_auto2(H5E_DEFAULT, function_, data_); }
+  QuietHdf5(const QuietHdf5&) = delete;
+  QuietHdf5& operator=(const QuietHdf5&) = delete;
+
+ private:
+  H5E_auto2_t function_ = nullptr;
+  void* data_ = nullptr;
+};
+
+// ---------------------------------------------------------------------------
+// Scalar attributes: one list, used by the writer and the reader
+// ---------------------------------------------------------------------------
+
+// Every statistic must be stored: a new field changes the size (all fields
+// are 8 bytes) and must be added to visit_statistics below.
+static_assert(sizeof(CementedSampleStats) == 31 * 8,
+              "CementedSampleStats changed: store the new field in visit_statistics()");
+
+/// Calls visit(name, value&) for the numeric attributes a reader needs: the
+/// sizes (checked against the datasets) and the recipe (value:
+/// std::int64_t, std::uint64_t or double).
+template <class Visit>
+void visit_structure(CementedSampleStats& st, CementedSampleSpec& sp, Visit&& visit) {
+  visit("particles", st.particles);
+  visit("nodes", st.nodes);
+  visit("bonds", st.bonds);
+  PackingSpec& p = sp.packing;
+  visit("packing_count", p.count);
+  visit("packing_d_min", p.d_min);
+  visit("packing_d_max", p.d_max);
+  visit("packing_seed", p.seed);
+  visit("packing_initial_fraction", p.initial_fraction);
+  visit("packing_initial_step", p.initial_step);
+  visit("packing_fraction_tolerance", p.fraction_tolerance);
+  visit("packing_contact_gap", p.contact_gap);
+  visit("packing_force_tolerance", p.force_tolerance);
+  visit("packing_max_relaxation_steps", p.max_relaxation_steps);
+  visit("sample_particles", sp.sample_particles);
+  RandomLatticeSpec& l = sp.lattice;
+  visit("lattice_nodes", l.nodes);
+  visit("lattice_bonds", l.bonds);
+  visit("lattice_Ln", l.mesh_density);
+  visit("lattice_min_separation", l.min_separation);
+  visit("lattice_seed", l.seed);
+  visit("lattice_stiffness", l.stiffness);
+  visit("matrix_fraction", sp.bridges.matrix_fraction);
+  visit("matrix_max_gap", sp.bridges.max_gap);
+  visit("matrix_max_lambda", sp.bridges.max_lambda);
+}
+
+/// The other statistics: informative only, so a file written before a
+/// statistic existed still loads (the statistic then reads as 0).
+template <class Visit>
+void visit_statistics(CementedSampleStats& st, Visit&& visit) {
+  visit("centres_inside", st.sample_particles);
+  visit("side", st.side);
+  visit("nodes_per_particle", st.nodes_per_particle);
+  visit("rho_p_geometric", st.rho_p_geometric);
+  visit("rho_m_requested", st.rho_m_requested);
+  visit("rho_p", st.rho_p);
+  visit("rho_m", st.rho_m);
+  visit("rho_v", st.rho_v);
+  for (int k = 0; k < kPhaseCount; ++k) {
+    const std::string phase = phase_name(static_cast<Phase>(k));
+    visit("bonds_" + phase, st.bonds_per_phase[k]);
+    visit("bond_volume_fraction_" + phase, st.bond_volume_fraction[k]);
+  }
+  visit("bonds_per_particle", st.bonds_per_particle);
+  visit("eligible_pairs", st.eligible_pairs);
+  visit("bridges", st.bridges);
+  visit("eligible_per_particle", st.eligible_per_particle);
+  visit("bridges_per_particle", st.bridges_per_particle);
+  visit("interface_ratio", st.interface_ratio);
+  visit("packing_seconds", st.packing_seconds);
+  visit("lattice_seconds", st.lattice_seconds);
+  visit("voronoi_seconds", st.voronoi_seconds);
+  visit("phases_seconds", st.phases_seconds);
+}
+
+template <class T>
+std::pair<hid_t, hid_t> hdf5_types() {  // (file type, memory type)
+  if constexpr (std::is_same_v<T, double>) return {H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE};
+  else if constexpr (std::is_same_v<T, std::int64_t>) return {H5T_STD_I64LE, H5T_NATIVE_INT64};
+  else if constexpr (std::is_same_v<T, std::uint64_t>) return {H5T_STD_U64LE, H5T_NATIVE_UINT64};
+  else if constexpr (std::is_same_v<T, std::int32_t>) return {H5T_STD_I32LE, H5T_NATIVE_INT32};
+  else {
+    static_assert(std::is_same_v<T, std::uint8_t>);
+    return {H5T_STD_U8LE, H5T_NATIVE_UINT8};
+  }
+}
+
+const char* distribution_name(SizeDistribution d) {
+  return d == SizeDistribution::uniform_volume ? "uniform_volume" : "uniform_diameter";
+}
+const char* law_name(ContactLaw law) { return law == ContactLaw::hertz ? "hertz" : "linear"; }
+
+std::uint8_t node_phase_code(const NodePhases& np, std::size_t n) {
+  return np.particle[n] >= 0 ? 0 : (np.matrix[n] ? 1 : 2);
+}
+
+// ---------------------------------------------------------------------------
+// Writing
+// ---------------------------------------------------------------------------
+
+class SampleWriter {
+ public:
+  SampleWriter(const std::string& path, const std::string& label) : label_(label) {
+    file_ = Handle(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
+    check(file_.valid(), "create the file");
+    // Shipped samples should be small; fall back to plain storage if this
+    // HDF5 build lacks zlib.
+    unsigned config = 0;
+    compress_ = H5Zfilter_avail(H5Z_FILTER_DEFLATE) > 0 &&
+                H5Zget_filter_info(H5Z_FILTER_DEFLATE, &config) >= 0 &&
+                (config & H5Z_FILTER_CONFIG_ENCODE_ENABLED) != 0;
+  }
+
+  hid_t file() const { return file_.get(); }
+
+  void group(const char* name) {
+    Handle g(H5Gcreate2(file_.get(), name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
+    check(g.valid() && g.close(), std::string("create group /") + name);
+  }
+
+  /// rows x columns values (columns 0: a 1-D dataset).
+  template <class T>
+  void dataset(const std::string& path, const T* data, std::size_t rows, hsize_t columns = 0) {
+    const auto [file_type, memory_type] = hdf5_types<T>();
+    const int rank = columns == 0 ? 1 : 2;
+    const hsize_t dims[2] = {static_cast<hsize_t>(rows), columns};
+    Handle space(H5Screate_simple(rank, dims, nullptr), H5Sclose);
+    Handle create(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
+    check(space.valid() && create.valid(), "describe dataset " + path);
+    if (compress_ && rows > 0) {
+      // Chunks of at most 64k rows; shuffling the bytes first makes integers
+      // and nearby doubles compress far better.
+      const hsize_t chunk[2] = {std::min<hsize_t>(rows, 65536), columns};
+      check(H5Pset_chunk(create.get(), rank, chunk) >= 0 && H5Pset_shuffle(create.get()) >= 0 &&
+                H5Pset_deflate(create.get(), 6) >= 0,
+            "set up compression of " + path);
+    }
+    Handle set(H5Dcreate2(file_.get(), path.c_str(), file_type, space.get(), H5P_DEFAULT,
+                          create.get(), H5P_DEFAULT),
+               H5Dclose);
+    check(set.valid(), "create dataset " + path);
+    if (rows > 0)
+      check(H5Dwrite(set.get(), memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) >= 0,
+            "write dataset " + path);
+    check(set.close(), "close dataset " + path);
+  }
+
+  template <class T>
+  void number(const std::string& name, const T& value) {
+    const auto [file_type, memory_type] = hdf5_types<T>();
+    check(h5::write_numeric_attribute(file_.get(), name, file_type, memory_type, &value),
+          "write attribute " + name);
+  }
+
+  void text(const std::string& name, const std::string& value) {
+    check(h5::write_string_attribute(file_.get(), name, value), "write attribute " + name);
+  }
+
+  void vector3(const std::string& name, const Point& value) {
+    const hsize_t three = 3;
+    Handle space(H5Screate_simple(1, &three, nullptr), H5Sclose);
+    Handle attribute(space.valid() ? H5Acreate2(file_.get(), name.c_str(), H5T_IEEE_F64LE,
+                                                space.get(), H5P_DEFAULT, H5P_DEFAULT)
+                                   : H5I_INVALID_HID,
+                     H5Aclose);
+    check(attribute.valid() && H5Awrite(attribute.get(), H5T_NATIVE_DOUBLE, value.data()) >= 0 &&
+              attribute.close(),
+          "write attribute " + name);
+  }
+
+  void close() { check(file_.close(), "close the file"); }
+
+ private:
+  void check(bool ok, const std::string& what) const {
+    if (!ok) throw InputError("cannot write sample file " + label_ + ": HDF5 could not " + what);
+  }
+  std::string label_;
+  Handle file_;
+  bool compress_ = false;
+};
+
+void check_sizes(const CementedSample& s) {
+  const std::size_t n = s.lattice.node_count(), m = s.lattice.bond_count();
+  if (s.node_volume.size() != n || s.node_phases.particle.size() != n ||
+      s.node_phases.matrix.size() != n || s.bond_phase.size() != m ||
+      s.lattice.stiffness.size() != m)
+    throw std::invalid_argument("write_sample: the sample's per-node or per-bond arrays do not "
+                                "match its lattice (" + std::to_string(n) + " nodes, " +
+                                std::to_string(m) + " bonds)");
+}
+
+void write_hdf5(const std::string& path, const std::string& label, const CementedSample& s,
+                const CementedSampleSpec& spec, const Provenance& provenance) {
+  SampleWriter w(path, label);
+  w.text("format", kSampleFormat);
+  w.number("format_version", static_cast<std::int64_t>(kSampleFormatVersion));
+
+  const std::size_t n = s.lattice.node_count(), m = s.lattice.bond_count();
+  w.group("nodes");
+  w.dataset("/nodes/coordinates", s.lattice.nodes.data()->data(), n, 3);
+  w.dataset("/nodes/volume", s.node_volume.data(), n);
+  w.dataset("/nodes/particle", s.node_phases.particle.data(), n);
+  std::vector<std::uint8_t> codes(n);
+  for (std::size_t i = 0; i < n; ++i) codes[i] = node_phase_code(s.node_phases, i);
+  w.dataset("/nodes/phase", codes.data(), n);
+
+  w.group("bonds");
+  std::vector<std::int64_t> ends(2 * m);
+  for (std::size_t b = 0; b < m; ++b) {
+    ends[2 * b] = s.lattice.bonds[b].i;
+    ends[2 * b + 1] = s.lattice.bonds[b].j;
+  }
+  w.dataset("/bonds/connectivity", ends.data(), m, 2);
+  codes.resize(m);
+  for (std::size_t b = 0; b < m; ++b) codes[b] = static_cast<std::uint8_t>(s.bond_phase[b]);
+  w.dataset("/bonds/phase", codes.data(), m);
+  w.dataset("/bonds/stiffness", s.lattice.stiffness.data(), m);
+
+  const std::size_t p = s.particles.size();
+  std::vector<double> centres(3 * p), radii(p);
+  for (std::size_t i = 0; i < p; ++i) {
+    std::copy(s.particles[i].centre.begin(), s.particles[i].centre.end(), &centres[3 * i]);
+    radii[i] = s.particles[i].radius;
+  }
+  w.group("particles");
+  w.dataset("/particles/centres", centres.data(), p, 3);
+  w.dataset("/particles/radii", radii.data(), p);
+
+  const std::size_t nb = s.bridges.size();
+  std::vector<std::int32_t> pairs(2 * nb);
+  std::vector<double> lambda(nb);
+  for (std::size_t k = 0; k < nb; ++k) {
+    pairs[2 * k] = s.bridges[k].i;
+    pairs[2 * k + 1] = s.bridges[k].j;
+    lambda[k] = s.bridges[k].lambda;
+  }
+  w.group("bridges");
+  w.dataset("/bridges/particles", pairs.data(), nb, 2);
+  w.dataset("/bridges/lambda", lambda.data(), nb);
+
+  w.vector3("box_lo", s.lattice.box.lo);
+  w.vector3("box_hi", s.lattice.box.hi);
+  CementedSampleStats stats = s.stats;
+  CementedSampleSpec copy = spec;
+  const auto write = [&](const std::string& name, auto& value) { w.number(name, value); };
+  visit_structure(stats, copy, write);
+  visit_statistics(stats, write);
+  w.text("packing_distribution", distribution_name(spec.packing.distribution));
+  w.text("packing_law", law_name(spec.packing.law));
+  if (!h5::write_provenance_attributes(w.file(), provenance))
+    throw InputError("cannot write sample file " + label + ": HDF5 could not write the "
+                     "provenance attributes");
+  w.close();
+}
+
+std::string sample_xdmf(const std::string& h5_name, const CementedSample& s) {
+  const auto n = static_cast<std::int64_t>(s.lattice.node_count());
+  const auto m = static_cast<std::int64_t>(s.lattice.bond_count());
+  const auto p = static_cast<std::int64_t>(s.particles.size());
+  const h5::XdmfArray node_phase{"phase", "/nodes/phase", 1, "UChar", 1};
+  const h5::XdmfArray particle{"particle", "/nodes/particle", 1, "Int", 4};
+  h5::XdmfText x(h5_name);
+  x.begin_points("nodes", n, "/nodes/coordinates");
+  x.attribute(node_phase, "Node", n);
+  x.attribute(particle, "Node", n);
+  x.attribute({"volume", "/nodes/volume", 1, "Float", 8}, "Node", n);
+  x.end_grid();
+  x.begin_polylines("bonds", m, "/bonds/connectivity", n, "/nodes/coordinates");
+  x.attribute({"phase", "/bonds/phase", 1, "UChar", 1}, "Cell", m);
+  x.end_grid();
+  x.begin_points("particles", p, "/particles/centres");
+  x.attribute({"radius", "/particles/radii", 1, "Float", 8}, "Node", p);
+  x.end_grid();
+  return x.text();
+}
+
+// ---------------------------------------------------------------------------
+// Reading
+// ---------------------------------------------------------------------------
+
+class SampleReader {
+ public:
+  explicit SampleReader(const std::string& path) : path_(path) {
+    std::error_code ec;
+    if (!fs::exists(path, ec)) throw InputError("sample file '" + path + "' does not exist");
+    if (fs::is_directory(path, ec))
+      throw InputError("sample file '" + path + "' is a directory, not a file");
+    if (H5Fis_hdf5(path.c_str()) <= 0)
+      throw InputError("sample file '" + path + "' is not a readable HDF5 file");
+    file_ = Handle(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+    if (!file_.valid())
+      throw InputError("sample file '" + path + "' is not a readable HDF5 file (damaged or "
+                       "truncated?)");
+  }
+
+  [[noreturn]] void corrupt(const std::string& what) const {
+    throw InputError("sample file '" + path_ + "' is corrupt: " + what);
+  }
+
+  bool has_attribute(const char* name) const { return H5Aexists(file_.get(), name) > 0; }
+
+  std::string text(const std::string& name) const {
+    Handle attribute(H5Aopen(file_.get(), name.c_str(), H5P_DEFAULT), H5Aclose);
+    if (!attribute.valid()) corrupt("attribute '" + name + "' is missing");
+    Handle stored(H5Aget_type(attribute.get()), H5Tclose);
+    if (!stored.valid() || H5Tget_class(stored.get()) != H5T_STRING ||
+        H5Tis_variable_str(stored.get()) <= 0)
+      corrupt("attribute '" + name + "' is not a string");
+    // Read with the stored type: HDF5 does not convert between character sets.
+    char* value = nullptr;
+    if (H5Aread(attribute.get(), stored.get(), &value) < 0)
+      corrupt("attribute '" + name + "' cannot be read");
+    std::string out = value != nullptr ? value : "";
+    H5free_memory(value);
+    return out;
+  }
+
+  /// A numeric attribute with `count` values.
+  template <class T>
+  void numbers(const std::string& name, T* out, hssize_t count = 1) const {
+    Handle attribute(H5Aopen(file_.get(), name.c_str(), H5P_DEFAULT), H5Aclose);
+    if (!attribute.valid()) corrupt("attribute '" + name + "' is missing");
+    Handle space(H5Aget_space(attribute.get()), H5Sclose);
+    Handle stored(H5Aget_type(attribute.get()), H5Tclose);
+    const H5T_class_t cls = stored.valid() ? H5Tget_class(stored.get()) : H5T_NO_CLASS;
+    if (!space.valid() || H5Sget_simple_extent_npoints(space.get()) != count ||
+        (cls != H5T_INTEGER && cls != H5T_FLOAT))
+      corrupt("attribute '" + name + "' is not " + std::to_string(count) + " number(s)");
+    if (H5Aread(attribute.get(), hdf5_types<T>().second, out) < 0)
+      corrupt("attribute '" + name + "' cannot be read");
+  }
+
+  /// A dataset of `columns` values per row (0: 1-D) and of `rows` rows, or
+  /// of any row count (rows < 0), which is then stored in `rows`.
+  template <class T>
+  std::vector<T> dataset(const std::string& name, std::int64_t& rows, hsize_t columns = 0) const {
+    Handle set(H5Dopen2(file_.get(), name.c_str(), H5P_DEFAULT), H5Dclose);
+    if (!set.valid()) corrupt("dataset " + name + " is missing");
+    Handle space(H5Dget_space(set.get()), H5Sclose);
+    Handle stored(H5Dget_type(set.get()), H5Tclose);
+    const int rank = columns == 0 ? 1 : 2;
+    hsize_t dims[2] = {0, 0};
+    if (!space.valid() || !stored.valid() || H5Sget_simple_extent_ndims(space.get()) != rank)
+      corrupt("dataset " + name + " should have " + std::to_string(rank) + " dimension(s)");
+    H5Sget_simple_extent_dims(space.get(), dims, nullptr);
+    const bool want_float = std::is_floating_point_v<T>;
+    if (H5Tget_class(stored.get()) != (want_float ? H5T_FLOAT : H5T_INTEGER))
+      corrupt("dataset " + name + " should hold " + (want_float ? "reals" : "integers"));
+    if (rank == 2 && dims[1] != columns)
+      corrupt("dataset " + name + " has " + std::to_string(dims[1]) + " columns, expected " +
+              std::to_string(columns));
+    const auto found = static_cast<std::int64_t>(dims[0]);
+    if (rows >= 0 && found != rows)
+      corrupt("dataset " + name + " has " + std::to_string(found) + " rows, expected " +
+              std::to_string(rows));
+    rows = found;
+    std::vector<T> values(static_cast<std::size_t>(found) * (columns == 0 ? 1 : columns));
+    if (!values.empty() && H5Dread(set.get(), hdf5_types<T>().second, H5S_ALL, H5S_ALL,
+                                   H5P_DEFAULT, values.data()) < 0)
+      corrupt("dataset " + name + " cannot be read (truncated file?)");
+    return values;
+  }
+
+ private:
+  std::string path_;
+  Handle file_;
+};
+
+template <class T>
+void check_range(const SampleReader& r, const std::vector<T>& values, std::int64_t lo,
+                 std::int64_t hi, const std::string& what) {
+  for (const T v : values)
+    if (static_cast<std::int64_t>(v) < lo || static_cast<std::int64_t>(v) > hi)
+      r.corrupt(what + " " + std::to_string(static_cast<std::int64_t>(v)) +
+                " is out of range [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+}
+
+SampleFile read_everything(const std::string& path) {
+  const SampleReader r(path);
+  if (!r.has_attribute("format") || r.text("format") != kSampleFormat)
+    throw InputError("'" + path + "' is not a lem cemented-sample file (no format attribute '" +
+                     std::string(kSampleFormat) + "'; make one with lem_sample)");
+  std::int64_t version = 0;
+  r.numbers("format_version", &version);
+  if (version != kSampleFormatVersion)
+    throw InputError("sample file '" + path + "' has format_version " + std::to_string(version) +
+                     "; this program reads version " + std::to_string(kSampleFormatVersion) +
+                     " (rebuild the sample with this lem_sample)");
+
+  SampleFile f;
+  CementedSample& s = f.sample;
+  visit_structure(s.stats, f.spec,
+                  [&](const std::string& name, auto& value) { r.numbers(name, &value); });
+  visit_statistics(s.stats, [&](const std::string& name, auto& value) {
+    if (r.has_attribute(name.c_str())) r.numbers(name, &value);
+  });
+  const std::string distribution = r.text("packing_distribution");
+  const std::string law = r.text("packing_law");
+  if (distribution != distribution_name(SizeDistribution::uniform_diameter) &&
+      distribution != distribution_name(SizeDistribution::uniform_volume))
+    r.corrupt("unknown packing_distribution '" + distribution + "'");
+  f.spec.packing.distribution = distribution == "uniform_volume"
+                                    ? SizeDistribution::uniform_volume
+                                    : SizeDistribution::uniform_diameter;
+  if (law != law_name(ContactLaw::linear) && law != law_name(ContactLaw::hertz))
+    r.corrupt("unknown packing_law '" + law + "'");
+  f.spec.packing.law = law == law_name(ContactLaw::hertz) ? ContactLaw::hertz : ContactLaw::linear;
+  r.numbers("box_lo", s.lattice.box.lo.data(), 3);
+  r.numbers("box_hi", s.lattice.box.hi.data(), 3);
+  f.spec.lattice.box = s.lattice.box;
+
+  Provenance& prov = f.provenance;
+  prov.program = r.text("program");
+  prov.version = r.text("version");
+  prov.git_hash = r.text("git_hash");
+  prov.options = r.text("options");
+  prov.start_time = r.text("start_time");
+  std::int64_t ranks = 0;
+  r.numbers("ranks", &ranks);
+  prov.ranks = static_cast<int>(ranks);
+
+  // Nodes.
+  std::int64_t n = -1;
+  const auto coords = r.dataset<double>("/nodes/coordinates", n, 3);
+  if (n != s.stats.nodes)
+    r.corrupt(std::to_string(n) + " node rows but attribute nodes = " +
+              std::to_string(s.stats.nodes));
+  if (n > std::numeric_limits<std::int32_t>::max()) r.corrupt("too many nodes for int32 bonds");
+  s.lattice.nodes.resize(static_cast<std::size_t>(n));
+  for (std::size_t i = 0; i < s.lattice.nodes.size(); ++i)
+    std::copy(&coords[3 * i], &coords[3 * i] + 3, s.lattice.nodes[i].begin());
+  s.node_volume = r.dataset<double>("/nodes/volume", n);
+
+  std::int64_t p = -1;
+  const auto centres = r.dataset<double>("/particles/centres", p, 3);
+  if (p != s.stats.particles)
+    r.corrupt(std::to_string(p) + " particle rows but attribute particles = " +
+              std::to_string(s.stats.particles));
+  const auto radii = r.dataset<double>("/particles/radii", p);
+  s.particles.resize(static_cast<std::size_t>(p));
+  for (std::size_t i = 0; i < s.particles.size(); ++i) {
+    std::copy(&centres[3 * i], &centres[3 * i] + 3, s.particles[i].centre.begin());
+    s.particles[i].radius = radii[i];
+    if (!(radii[i] > 0)) r.corrupt("particle " + std::to_string(i) + " has radius <= 0");
+  }
+
+  s.node_phases.particle = r.dataset<std::int32_t>("/nodes/particle", n);
+  check_range(r, s.node_phases.particle, -1, p - 1, "/nodes/particle value");
+  const auto node_codes = r.dataset<std::uint8_t>("/nodes/phase", n);
+  check_range(r, node_codes, 0, 2, "/nodes/phase code");
+  s.node_phases.matrix.resize(static_cast<std::size_t>(n));
+  for (std::size_t i = 0; i < node_codes.size(); ++i) {
+    if ((node_codes[i] == 0) != (s.node_phases.particle[i] >= 0))
+      r.corrupt("node " + std::to_string(i) + " has phase " + std::to_string(node_codes[i]) +
+                " but particle index " + std::to_string(s.node_phases.particle[i]));
+    s.node_phases.matrix[i] = node_codes[i] == 1 ? 1 : 0;
+  }
+
+  // Bonds.
+  std::int64_t m = s.stats.bonds;
+  const auto ends = r.dataset<std::int64_t>("/bonds/connectivity", m, 2);
+  s.lattice.bonds.resize(static_cast<std::size_t>(m));
+  for (std::size_t b = 0; b < s.lattice.bonds.size(); ++b) {
+    const std::int64_t i = ends[2 * b], j = ends[2 * b + 1];
+    if (i < 0 || j >= n || i >= j)
+      r.corrupt("bond " + std::to_string(b) + " joins nodes " + std::to_string(i) + " and " +
+                std::to_string(j) + " (needs 0 <= i < j < " + std::to_string(n) + ")");
+    s.lattice.bonds[b] = {static_cast<std::int32_t>(i), static_cast<std::int32_t>(j)};
+  }
+  const auto bond_codes = r.dataset<std::uint8_t>("/bonds/phase", m);
+  check_range(r, bond_codes, 0, kPhaseCount - 1, "/bonds/phase code");
+  s.bond_phase.resize(bond_codes.size());
+  for (std::size_t b = 0; b < bond_codes.size(); ++b) s.bond_phase[b] = static_cast<Phase>(bond_codes[b]);
+  s.lattice.stiffness = r.dataset<double>("/bonds/stiffness", m);
+
+  // Bridges.
+  std::int64_t nb = -1;
+  const auto pairs = r.dataset<std::int32_t>("/bridges/particles", nb, 2);
+  const auto lambda = r.dataset<double>("/bridges/lambda", nb);
+  check_range(r, pairs, 0, p - 1, "/bridges/particles index");
+  s.bridges.resize(static_cast<std::size_t>(nb));
+  for (std::size_t k = 0; k < s.bridges.size(); ++k)
+    s.bridges[k] = {pairs[2 * k], pairs[2 * k + 1], lambda[k]};
+  return f;
+}
+
+}  // namespace
+
+void write_sample(const std::string& stem, const CementedSample& sample,
+                  const CementedSampleSpec& spec, const Provenance& provenance) {
+  check_sizes(sample);
+  if (stem.empty() || fs::path(stem).filename().empty())
+    throw InputError("write_sample: output stem '" + stem +
+                     "' must name a file (e.g. meshes/tiny), not be empty or end in '/'");
+  const std::string h5_path = stem + ".h5";
+  const std::string tmp_path = h5_path + ".tmp";
+  const QuietHdf5 quiet;
+  try {
+    write_hdf5(tmp_path, "'" + h5_path + "'", sample, spec, provenance);
+  } catch (...) {
+    std::error_code ec;
+    fs::remove(tmp_path, ec);
+    throw;
+  }
+  std::error_code ec;
+  fs::rename(tmp_path, h5_path, ec);
+  if (ec) {
+    const std::string reason = ec.message();
+    fs::remove(tmp_path, ec);
+    throw InputError("cannot write sample file '" + h5_path + "': renaming '" + tmp_path +
+                     "' failed: " + reason);
+  }
+  write_text_file_atomically(stem + ".xmf",
+                             sample_xdmf(fs::path(h5_path).filename().string(), sample));
+}
+
+SampleFile read_sample_file(const std::string& path) {
+  const QuietHdf5 quiet;
+  return read_everything(path);
+}
+
+CementedSample read_sample(const std::string& path) { return read_sample_file(path).sample; }
+
+}  // namespace lem

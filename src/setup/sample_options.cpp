@@ -1,0 +1,142 @@
+#include "lem/sample_options.hpp"
+
+#include "lem/error.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace lem {
+namespace {
+
+// Paper sect. 2.3: 1.3e6 bonds for 516 sphere centres.
+constexpr std::int64_t kBondsPerSampleParticle = 2520;
+
+std::string number(double x) {
+  std::ostringstream s;
+  s << x;
+  return s.str();
+}
+
+}  // namespace
+
+bool read_random_lattice_options(OptionGroup& g, RandomLatticeSpec& spec) {
+  spec.nodes = g.integer("-lattice_nodes", "Number of nodes of the random lattice (0: use "
+                         "-lattice_bonds or -lattice_Ln)", 0, 0, 200'000'000);
+  spec.bonds = g.integer("-lattice_bonds", "Approximate number of bonds M (0: use "
+                         "-lattice_nodes or -lattice_Ln)", 0, 0, 2'000'000'000);
+  spec.mesh_density = g.real("-lattice_Ln", "Mesh density L_n = M^(-1/3) (0: unused)", 0.0,
+                             0.0, 0.5);
+  spec.min_separation = g.real("-lattice_min_separation", "Minimum node distance as a "
+                               "fraction of the mean spacing", 0.5, 0.0, 0.8);
+  spec.seed = static_cast<std::uint64_t>(
+      g.integer("-lattice_seed", "Random seed of the node positions", 1, 0, PETSC_MAX_INT));
+  return spec.nodes != 0 || spec.bonds != 0 || spec.mesh_density != 0;
+}
+
+std::int64_t auto_packing_count(std::int64_t sample_particles) {
+  const std::int64_t rounded = (2 * sample_particles + 50) / 100 * 100;
+  return std::max<std::int64_t>(100, rounded);
+}
+
+PackingSpec read_packing_spec(MPI_Comm comm) {
+  PackingSpec spec;
+  OptionGroup g(comm, "Packing (periodic box of jammed spheres; lengths in units of d_min)");
+  spec.count = g.integer("-pack_particles", "Spheres in the periodic box (0: auto, twice the "
+                         "sample's sphere count rounded to a hundred, at least 100)", 0, 0,
+                         50'000'000);
+  if (spec.count != 0 && spec.count < 20)
+    throw InputError("option -pack_particles = " + std::to_string(spec.count) +
+                     " is out of range: allowed 0 (auto) or 20 to 50000000");
+  spec.d_min = g.real("-pack_dmin", "Smallest diameter", 1.0, 0.0, 1e6, true);
+  spec.d_max = g.real("-pack_dmax", "Largest diameter (>= d_min, <= 4 d_min)", 1.25, 0.0, 1e6,
+                      true);
+  if (!(spec.d_max >= spec.d_min && spec.d_max <= 4 * spec.d_min))
+    throw InputError("option -pack_dmax = " + number(spec.d_max) + " is out of range: allowed "
+                     "-pack_dmin = " + number(spec.d_min) + " to 4 -pack_dmin = " +
+                     number(4 * spec.d_min));
+  spec.seed = static_cast<std::uint64_t>(g.integer(
+      "-pack_seed", "Seed of the random diameters and start positions", 1, 0, 2147483647));
+  const auto dist = g.choice("-pack_distribution", "Diameter distribution",
+                             {"uniform_diameter", "uniform_volume"}, "uniform_diameter");
+  spec.distribution = dist == "uniform_volume" ? SizeDistribution::uniform_volume
+                                               : SizeDistribution::uniform_diameter;
+  const auto law = g.choice("-pack_law", "Soft repulsion used to find the jammed state",
+                            {"linear", "hertz"}, "linear");
+  spec.law = law == "hertz" ? ContactLaw::hertz : ContactLaw::linear;
+  spec.fraction_tolerance =
+      g.real("-pack_tolerance", "Stop when jammed and unjammed volume fractions differ by "
+             "less than this", 1e-5, 1e-9, 1e-2);
+  spec.initial_fraction = g.real("-pack_initial_fraction", "Volume fraction of the random "
+                                 "start", spec.initial_fraction, 0.05, 0.72);
+  spec.initial_step = g.real("-pack_initial_step", "First change of volume fraction between "
+                             "jamming attempts", spec.initial_step, 0.0, 0.1, true);
+  spec.force_tolerance = g.real("-pack_force_tolerance", "A relaxation ends jammed when "
+                                "the largest net force is below this times the mean "
+                                "contact force", spec.force_tolerance, 0.0, 0.1, true);
+  spec.contact_gap = g.real("-pack_contact_gap", "Contact if the gap is below this times "
+                            "the mean diameter", 1e-3, 0.0, 0.5);
+  return spec;
+}
+
+CementedSampleSpec read_cemented_sample_spec(MPI_Comm comm) {
+  CementedSampleSpec spec;
+  spec.packing = read_packing_spec(comm);
+  OptionGroup g(comm, "Cemented sample (paper sect. 2.2-2.3; without a lattice size: 2520 "
+                      "bonds per sample particle, the paper's 1.3e6 for 516)");
+  spec.sample_particles = g.integer(
+      "-sample_particles", "Sphere centres inside the cubic sample (the paper: 516); the "
+      "spheres reaching in from outside are kept too", 516, kMinSampleParticles, 50'000'000);
+  if (spec.packing.count == 0) {
+    spec.packing.count = auto_packing_count(spec.sample_particles);
+  } else if (spec.packing.count < spec.sample_particles) {
+    throw InputError("option -pack_particles = " + std::to_string(spec.packing.count) +
+                     " is too small: the cube needs -sample_particles = " +
+                     std::to_string(spec.sample_particles) + " of the packing's spheres");
+  }
+  if (!read_random_lattice_options(g, spec.lattice))
+    spec.lattice.bonds = kBondsPerSampleParticle * spec.sample_particles;
+  // The bridge options are in units of d_min; the geometry works in lengths.
+  spec.bridges.matrix_fraction = g.real(
+      "-matrix_fraction", "Requested matrix volume fraction rho^m (calibrated on the lattice "
+      "to 1e-3; the paper varies it up to the pore space)", spec.bridges.matrix_fraction, 0.0,
+      0.36, true);
+  spec.bridges.max_gap = spec.packing.d_min *
+      g.real("-matrix_max_gap", "Pairs of particles whose surfaces are at most this far apart "
+             "(in units of d_min) receive a matrix bridge; the paper states d_min, its ~9 bridges per "
+             "particle need less",
+             spec.bridges.max_gap, 0.0, 10.0);
+  spec.bridges.max_lambda = g.real(
+      "-matrix_max_lambda", "Widest bridge: frustum radius / particle radius at the centres",
+      spec.bridges.max_lambda, 0.0, 10.0, true);
+  return spec;
+}
+
+PhaseTable read_phase_table(MPI_Comm comm) {
+  PhaseTable t;
+  OptionGroup g(comm, "Bond properties per phase (paper sect. 2.2: E = k/a, sigma = f/a^2)");
+  struct Entry {
+    Phase phase;
+    const char *modulus, *modulus_help, *strength, *strength_help;
+  };
+  static const Entry entries[] = {
+      {Phase::p, "-phase_E_p", "Modulus E^p = k^p/a of bonds inside a particle (paper: 3 E^m)",
+       "-phase_sigma_p", "Breaking stress sigma^p = f^p/a^2 of particle bonds"},
+      {Phase::m, "-phase_E_m", "Modulus E^m = k^m/a of matrix bonds", "-phase_sigma_m",
+       "Breaking stress sigma^m = f^m/a^2 of matrix bonds (paper: sigma^p)"},
+      {Phase::pp, "-phase_E_pp", "Modulus E^pp = k^pp/a of bonds joining two particles "
+       "(0: bare contacts carry nothing and are left out)", "-phase_sigma_pp",
+       "Breaking stress sigma^pp = f^pp/a^2 of particle-particle bonds (paper: 0)"},
+      {Phase::pm, "-phase_E_pm", "Modulus E^pm = k^pm/a of particle-matrix interface bonds "
+       "(paper: E^m)", "-phase_sigma_pm",
+       "Breaking stress sigma^pm = f^pm/a^2 of particle-matrix interface bonds"},
+  };
+  for (const Entry& e : entries) {
+    const int k = static_cast<int>(e.phase);
+    t.modulus[k] = g.real(e.modulus, e.modulus_help, t.modulus[k], 0.0, 1e12, e.phase != Phase::pp);
+    t.strength[k] = g.real(e.strength, e.strength_help, t.strength[k], 0.0, 1e12);
+  }
+  return t;
+}
+
+}  // namespace lem
