@@ -8,7 +8,8 @@
 
 namespace lem {
 
-/// Exit codes: 0 success, 1 bad input, 2 numerical failure, 3 other error.
+/// Exit codes: 0 success, 1 bad input, 2 numerical failure, 3 other error,
+/// 4 stopped by a signal after a checkpoint (rerun to resume).
 int run_driver(int argc, char** argv, const char* help,
                const std::function<void(MPI_Comm)>& body);
 

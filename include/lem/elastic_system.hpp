@@ -24,6 +24,8 @@ struct SolveReport {
   KSPConvergedReason reason = KSP_CONVERGED_ITERATING;
   double setup_seconds = 0;  // KSPSetUp: preconditioner build (0 when reused)
   double solve_seconds = 0;  // KSPSolve
+  bool preconditioner_built = false;  // this solve (re)built the preconditioner
+  bool used_fallback = false;  // multigrid failed twice; CG + Jacobi (-fallback_*) solved
 };
 
 /// Macroscopic response to a top displacement (paper sect. 2.3).
@@ -60,6 +62,31 @@ class ElasticSystem {
   /// load) is the initial guess.  Throws NumericalError if KSP diverges.
   SolveReport solve(double top_displacement);
 
+  /// Keep the current preconditioner for later solves even when K changes
+  /// (it is built anyway by the first solve).  rebuild_preconditioner() makes
+  /// the next solve build a fresh one from the current K.
+  void set_reuse_preconditioner(bool reuse);
+  void rebuild_preconditioner();
+  /// Build the preconditioner from the current K now (restart replay).
+  void build_preconditioner();
+
+  /// The system is linear in the load: while K is unchanged since the last
+  /// solve, the solution for another top displacement is the last one scaled.
+  /// Exact (no solve); throws std::logic_error if K changed since.
+  void rescale(double top_displacement);
+
+  /// Pin the given local nodes (every rank passes its local copies, owned
+  /// and ghost): their rows become constrained at zero displacement.  Their
+  /// bonds must already carry k = 0.  Call finish_updates() afterwards.
+  void pin_nodes(const std::vector<int>& local_nodes);
+
+  /// Owned displacements as a flat array (3 per owned node) and the top
+  /// displacement they belong to; set_state restores them (restart: the
+  /// values must solve the current K).
+  std::vector<double> solution() const;
+  double top_displacement() const { return current_displacement_; }
+  void set_state(const std::vector<double>& owned_values, double top_displacement);
+
   TensionResponse response() const;
   /// Tension of every local bond (positive when stretched): k n.(u_j - u_i).
   std::vector<double> bond_tensions() const;
@@ -75,17 +102,24 @@ class ElasticSystem {
   void add_bond_block(int bond, double k_change);
   void assemble_rhs(double top_displacement);
   void update_ghosts() const;
+  SolveReport attempt_solve();
+  SolveReport fallback_solve();
   Point local_displacement(const PetscScalar* u_local, int node) const;
 
   DistributedLattice& lattice_;
   Mat K_ = nullptr;
   Vec u_ = nullptr;  // ghosted: owned values followed by ghost values
   Vec b_ = nullptr;
+  Vec u_start_ = nullptr;  // initial guess kept for a retry
   KSP ksp_ = nullptr;
+  KSP fallback_ksp_ = nullptr;  // CG + Jacobi, created on first need
   double diagonal_scale_ = 1.0;
   double ground_ = 0.0;  // diagonal added on free dofs (-lattice_ground_stiffness)
   double current_displacement_ = 0.0;
   bool operator_changed_ = true;
+  bool reuse_pc_ = false;  // keep the preconditioner when K changes
+  bool pc_stale_ = false;  // the next solve must build a fresh preconditioner
+  bool pc_ready_ = false;  // a preconditioner has been built
 };
 
 }  // namespace lem

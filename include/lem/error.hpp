@@ -32,6 +32,13 @@ class NumericalError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// A long run stopped on request (SIGTERM/SIGUSR1) after writing a
+/// checkpoint; running the same command again resumes it.
+class Interrupted : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 #define LEM_PETSC(call)                                          \
   do {                                                           \
     PetscErrorCode lem_ierr_ = (call);                           \

@@ -34,6 +34,9 @@ int run_driver(int argc, char** argv, const char* help,
   } catch (const InputError& e) {
     report("error", e.what());
     status = 1;
+  } catch (const Interrupted& e) {
+    report("interrupted", e.what());
+    status = 4;
   } catch (const NumericalError& e) {
     report("numerical failure", e.what());
     status = 2;

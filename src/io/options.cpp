@@ -18,7 +18,7 @@ std::string describe_range(double lo, double hi, bool open_lo, bool open_hi) {
 // Prefixes of options that PETSc itself (or MPI start-up) may consume; they
 // are checked after the first solve, when PETSc has read them.
 const char* const kPetscPrefixes[] = {
-    "ksp_", "pc_", "mat_", "vec_", "log", "options_", "help", "malloc", "info", "on_error",
+    "ksp_", "pc_", "mat_", "vec_", "fallback_", "log", "options_", "help", "malloc", "info", "on_error",
     "history", "viewer", "fp_trap", "no_signal_handler", "check_pointer", "memory_view",
     "objects_dump", "skip_petscrc", "start_in_debugger", "debugger", "stop_for_debugger",
     "display", "use_gpu_aware_mpi", "citations", "version", "petsc", "sys", "draw", "nox",
@@ -146,6 +146,11 @@ void check_option_names(const std::vector<std::string>& own_prefixes) {
     const std::string bare = name.substr(1);
     bool own = false;
     for (const auto& p : own_prefixes) own = own || has_prefix(bare, p);
+    // Read later, when the elastic system is created.
+    static const char* const kReadLater[] = {"lattice_ground_stiffness"};
+    bool late = false;
+    for (const char* name_read_later : kReadLater) late = late || bare == name_read_later;
+    if (late) continue;  // check_unused_options() covers it
     if (own) {
       PetscBool used = PETSC_FALSE;
       LEM_PETSC(PetscOptionsUsed(nullptr, bare.c_str(), &used));  // stored without the dash

@@ -64,7 +64,7 @@ void write_tension_fields(const std::string& stem, const DistributedLattice& lat
 
   BondSlice bonds;
   const auto tension = system.bond_tensions();
-  Field force{"force", 1, {}}, stiffness{"stiffness", 1, {}};
+  Field force{"force", 1, {}}, stiffness{"stiffness", 1, {}}, phase{"phase", 1, {}};
   for (int b = 0; b < lattice.local_bonds(); ++b) {
     if (!lattice.bond_reported[b]) continue;
     const auto [p, q] = lattice.bond_ends[b];
@@ -72,8 +72,11 @@ void write_tension_fields(const std::string& stem, const DistributedLattice& lat
     bonds.ids.push_back(lattice.bond_id[b]);
     force.values.push_back(tension[b]);
     stiffness.values.push_back(lattice.bond_stiffness[b]);
+    if (!lattice.bond_tag.empty()) phase.values.push_back(lattice.bond_tag[b]);
   }
+  // Broken (or detached) bonds keep their place with stiffness 0.
   bonds.fields = {force, stiffness};
+  if (!lattice.bond_tag.empty()) bonds.fields.push_back(phase);
   write_lattice_fields(lattice.comm, stem, nodes, bonds, provenance, summary.numbers());
 }
 

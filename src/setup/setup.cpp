@@ -7,6 +7,7 @@
 #include "lem/sample_options.hpp"
 #include "lem/tension.hpp"
 
+#include <algorithm>
 #include <cstring>
 
 namespace lem {
@@ -75,7 +76,8 @@ SampleOptions read_sample_options(MPI_Comm comm) {
 Lattice build_sample(const SampleOptions& o, SampleInfo& info) {
   Lattice lattice;
   if (!o.sample_file.empty()) {
-    const CementedSample sample = read_sample(o.sample_file);
+    CementedSample sample = read_sample(o.sample_file);
+    if (o.homogeneous) std::fill(sample.bond_phase.begin(), sample.bond_phase.end(), Phase::p);
     lattice = mechanical_lattice(sample, o.phases);
     // Statistics (and a) of the whole lattice, void bonds included.
     info.stats = lattice_stats(sample.lattice);

@@ -3,7 +3,9 @@
 #include "lem/error.hpp"
 #include "lem/options.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <stdexcept>
 #include <string>
 
 namespace lem {
@@ -144,6 +146,8 @@ ElasticSystem::~ElasticSystem() {
   MatDestroy(&K_);
   VecDestroy(&u_);
   VecDestroy(&b_);
+  VecDestroy(&u_start_);
+  KSPDestroy(&fallback_ksp_);
 }
 
 void ElasticSystem::add_bond_block(int bond, double k_change) {
@@ -233,7 +237,6 @@ void ElasticSystem::assemble_rhs(double top_displacement) {
 }
 
 SolveReport ElasticSystem::solve(double top_displacement) {
-  const Stages& stages = log_stages();
   assemble_rhs(top_displacement);
 
   // Initial guess: the previous solution scaled to the new load, or the
@@ -257,10 +260,57 @@ SolveReport ElasticSystem::solve(double top_displacement) {
   }
   LEM_PETSC(VecRestoreArray(u_, &u));
 
+  // A preconditioner kept from an earlier K can turn indefinite (e.g. once
+  // loose nodes are pinned, their rows stiffen): retry once with a fresh one
+  // from the same initial guess before giving up.
+  if (!u_start_) LEM_PETSC(VecDuplicate(u_, &u_start_));
+  LEM_PETSC(VecCopy(u_, u_start_));
+  SolveReport report = attempt_solve();
+  int failed_iterations = 0;
+  if (report.reason < 0 && !report.preconditioner_built) {
+    LEM_PETSC(VecCopy(u_start_, u_));
+    failed_iterations += report.iterations;
+    pc_stale_ = true;
+    report = attempt_solve();
+  }
+  if (report.reason < 0) {
+    // Multigrid can still fail on a sample held by a hinge-like ligament
+    // (seen near complete separation) while plain Jacobi-CG converges: use
+    // it for this solve and build a fresh multigrid next time.
+    LEM_PETSC(VecCopy(u_start_, u_));
+    failed_iterations += report.iterations;
+    report = fallback_solve();
+    report.preconditioner_built = true;  // the next solve builds a new one
+    pc_stale_ = true;
+  }
+  report.iterations += failed_iterations;
+  if (report.reason < 0 || !std::isfinite(report.residual_norm)) {
+    std::string hint;
+    if (report.reason == KSP_DIVERGED_INDEFINITE_PC || report.reason == KSP_DIVERGED_INDEFINITE_MAT)
+      hint = "; the lattice probably contains a floppy part (a mechanism) that the pruning of "
+             "under-connected nodes did not remove, e.g. in a very porous sample";
+    throw NumericalError(std::string("linear solve did not converge: ") +
+                         KSPConvergedReasons[report.reason] + " after " +
+                         std::to_string(report.iterations) + " iterations (residual norm " +
+                         std::to_string(report.residual_norm) + ")" + hint);
+  }
+  current_displacement_ = top_displacement;
+  operator_changed_ = false;
+  update_ghosts();
+  return report;
+}
+
+SolveReport ElasticSystem::attempt_solve() {
+  const Stages& stages = log_stages();
   SolveReport report;
   double t0 = MPI_Wtime();
+  report.preconditioner_built = !pc_ready_ || pc_stale_ || (operator_changed_ && !reuse_pc_);
+  pc_ready_ = true;
   LEM_PETSC(PetscLogStagePush(stages.pc_setup));
+  if (pc_stale_) LEM_PETSC(KSPSetReusePreconditioner(ksp_, PETSC_FALSE));
   LEM_PETSC(KSPSetUp(ksp_));
+  if (pc_stale_ && reuse_pc_) LEM_PETSC(KSPSetReusePreconditioner(ksp_, PETSC_TRUE));
+  pc_stale_ = false;
   LEM_PETSC(PetscLogStagePop());
   report.setup_seconds = MPI_Wtime() - t0;
   t0 = MPI_Wtime();
@@ -275,19 +325,102 @@ SolveReport ElasticSystem::solve(double top_displacement) {
   LEM_PETSC(KSPGetConvergedReason(ksp_, &report.reason));
   report.iterations = static_cast<int>(its);
   report.residual_norm = rnorm;
-  if (report.reason < 0 || !std::isfinite(rnorm)) {
-    std::string hint;
-    if (report.reason == KSP_DIVERGED_INDEFINITE_PC || report.reason == KSP_DIVERGED_INDEFINITE_MAT)
-      hint = "; the lattice probably contains a floppy part (a mechanism) that the pruning of "
-             "under-connected nodes did not remove, e.g. in a very porous sample";
-    throw NumericalError(std::string("linear solve did not converge: ") +
-                         KSPConvergedReasons[report.reason] + " after " + std::to_string(its) +
-                         " iterations (residual norm " + std::to_string(rnorm) + ")" + hint);
-  }
-  current_displacement_ = top_displacement;
-  operator_changed_ = false;
-  update_ghosts();
   return report;
+}
+
+SolveReport ElasticSystem::fallback_solve() {
+  if (!fallback_ksp_) {
+    LEM_PETSC(KSPCreate(lattice_.comm, &fallback_ksp_));
+    LEM_PETSC(KSPSetOptionsPrefix(fallback_ksp_, "fallback_"));
+    LEM_PETSC(KSPSetType(fallback_ksp_, KSPCG));
+    PC pc;
+    LEM_PETSC(KSPGetPC(fallback_ksp_, &pc));
+    LEM_PETSC(PCSetType(pc, PCJACOBI));
+    PetscReal rtol, abstol, dtol;
+    PetscInt max_it;
+    LEM_PETSC(KSPGetTolerances(ksp_, &rtol, &abstol, &dtol, &max_it));
+    LEM_PETSC(KSPSetTolerances(fallback_ksp_, rtol, abstol, dtol, 200000));
+    LEM_PETSC(KSPSetInitialGuessNonzero(fallback_ksp_, PETSC_TRUE));
+    LEM_PETSC(KSPSetFromOptions(fallback_ksp_));
+  }
+  LEM_PETSC(KSPSetOperators(fallback_ksp_, K_, K_));
+  SolveReport report;
+  const double t0 = MPI_Wtime();
+  LEM_PETSC(KSPSolve(fallback_ksp_, b_, u_));
+  report.solve_seconds = MPI_Wtime() - t0;
+  PetscInt its = 0;
+  LEM_PETSC(KSPGetIterationNumber(fallback_ksp_, &its));
+  LEM_PETSC(KSPGetResidualNorm(fallback_ksp_, &report.residual_norm));
+  LEM_PETSC(KSPGetConvergedReason(fallback_ksp_, &report.reason));
+  report.iterations = static_cast<int>(its);
+  report.used_fallback = true;
+  return report;
+}
+
+void ElasticSystem::set_reuse_preconditioner(bool reuse) {
+  reuse_pc_ = reuse;
+  LEM_PETSC(KSPSetReusePreconditioner(ksp_, reuse ? PETSC_TRUE : PETSC_FALSE));
+}
+
+void ElasticSystem::rebuild_preconditioner() { pc_stale_ = true; }
+
+void ElasticSystem::build_preconditioner() {
+  LEM_PETSC(PetscLogStagePush(log_stages().pc_setup));
+  LEM_PETSC(KSPSetReusePreconditioner(ksp_, PETSC_FALSE));
+  LEM_PETSC(KSPSetUp(ksp_));
+  LEM_PETSC(KSPSetReusePreconditioner(ksp_, reuse_pc_ ? PETSC_TRUE : PETSC_FALSE));
+  LEM_PETSC(PetscLogStagePop());
+  pc_stale_ = false;
+  pc_ready_ = true;
+}
+
+void ElasticSystem::rescale(double top_displacement) {
+  if (operator_changed_ || current_displacement_ == 0.0)
+    throw std::logic_error("ElasticSystem::rescale: K changed (or nothing solved) since the "
+                           "last solve");
+  LEM_PETSC(VecScale(u_, top_displacement / current_displacement_));
+  // Prescribed values exactly (the scaled ones may differ in the last bit).
+  PetscScalar* u = nullptr;
+  LEM_PETSC(VecGetArray(u_, &u));
+  for (int n = 0; n < lattice_.owned; ++n)
+    if (lattice_.dof_flags[n] & kLoadedTop) u[3 * n + 2] = top_displacement;
+  LEM_PETSC(VecRestoreArray(u_, &u));
+  current_displacement_ = top_displacement;
+  update_ghosts();
+}
+
+void ElasticSystem::pin_nodes(const std::vector<int>& local_nodes) {
+  for (int n : local_nodes) {
+    const std::uint8_t old = lattice_.dof_flags[n];
+    lattice_.dof_flags[n] = kFixX | kFixY | kFixZ | kPinned;
+    if (n >= lattice_.owned || (old & kPinned)) continue;
+    // Free rows carried the ground spring, fixed rows the constrained scale.
+    PetscScalar block[9] = {};
+    for (int a = 0; a < 3; ++a) block[4 * a] = fixed(old, a) ? 0.0 : diagonal_scale_ - ground_;
+    const PetscInt row = static_cast<PetscInt>(lattice_.global_index[n]);
+    LEM_PETSC(MatSetValuesBlocked(K_, 1, &row, 1, &row, block, ADD_VALUES));
+  }
+}
+
+std::vector<double> ElasticSystem::solution() const {
+  std::vector<double> values(3 * static_cast<std::size_t>(lattice_.owned));
+  const PetscScalar* u = nullptr;
+  LEM_PETSC(VecGetArrayRead(u_, &u));
+  std::copy(u, u + values.size(), values.begin());
+  LEM_PETSC(VecRestoreArrayRead(u_, &u));
+  return values;
+}
+
+void ElasticSystem::set_state(const std::vector<double>& owned_values, double top_displacement) {
+  if (owned_values.size() != 3 * static_cast<std::size_t>(lattice_.owned))
+    throw std::logic_error("ElasticSystem::set_state: wrong number of values");
+  PetscScalar* u = nullptr;
+  LEM_PETSC(VecGetArray(u_, &u));
+  std::copy(owned_values.begin(), owned_values.end(), u);
+  LEM_PETSC(VecRestoreArray(u_, &u));
+  current_displacement_ = top_displacement;
+  operator_changed_ = false;  // the caller restores a solution of the current K
+  update_ghosts();
 }
 
 void ElasticSystem::update_ghosts() const {

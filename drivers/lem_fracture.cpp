@@ -1,0 +1,178 @@
+// Quasi-static tensile test to complete failure (paper sect. 2.3, 3, 6):
+// stress-strain curve, E_eff, sigma_eff, broken bonds by phase, fields.
+//
+//   mpirun -n 2 lem_fracture -sample_file meshes/demo.h5 -output_dir results/fracture
+//   mpirun -n 2 lem_fracture -lattice_bonds 200000 -lattice_break_strain 1e-3
+#include "lem/driver.hpp"
+#include "lem/error.hpp"
+#include "lem/fracture.hpp"
+#include "lem/options.hpp"
+#include "lem/setup.hpp"
+#include "lem/tension_output.hpp"
+
+#include <cmath>
+
+static const char help[] =
+    "Quasi-static uniaxial tension to complete failure of an elastic-brittle spring lattice\n"
+    "(Affes et al., EPJE 35, 2012).  The sample is a cemented sample file (-sample_file,\n"
+    "phases -phase_*) or a generated lattice (-lattice_*, thresholds -lattice_break_strain).\n"
+    "Stresses are normalised by sigma^[p], the strength of the homogeneous lattice of the\n"
+    "same geometry made of particle bonds, calibrated first (-fracture_calibrate).\n";
+
+namespace {
+
+struct Case {
+  lem::FractureResult result;
+  lem::SetupReport setup;
+  double stress_unit = 1;  // sigma_raw * stress_unit = sigma in E^phase (or k/a) units
+};
+
+// Set up the sample, run the protocol, write the curve and the fields.
+Case run_case(MPI_Comm comm, const lem::SampleOptions& sample, double break_strain,
+              lem::FractureOptions options, const lem::Provenance& provenance,
+              bool write_fields) {
+  Case c;
+  auto lattice = lem::setup_tension_lattice(
+      comm, [&](lem::SampleInfo& info) { return lem::build_sample(sample, info); }, c.setup);
+  // Stress unit: a sample file's bonds have k = E^phase a_s (a_s: mean length
+  // of all its bonds); a generated lattice's k is -lattice_k.
+  const bool from_file = !sample.sample_file.empty();
+  c.stress_unit = from_file ? c.setup.sample.stats.mean_length
+                            : lattice.mean_bond_length / sample.random.stiffness;
+  options.stress_unit = c.stress_unit;
+  if (lattice.bond_strength.empty()) {  // generated lattice: f = k a eps_b
+    lattice.bond_strength.resize(lattice.bond_stiffness.size());
+    for (int b = 0; b < lattice.local_bonds(); ++b)
+      lattice.bond_strength[b] = lattice.bond_stiffness[b] * lattice.mean_bond_length * break_strain;
+  }
+  lem::apply_strength_disorder(lattice, options);
+  lem::say("lattice: %lld nodes, %lld bonds in the system, a = %.4g; output %s/\n",
+           (long long)c.setup.sample.stats.nodes, (long long)c.setup.active_bonds,
+           lattice.mean_bond_length, options.output_dir.c_str());
+  lem::ElasticSystem system(lattice);
+  system.assemble();
+  c.result = lem::run_fracture(lattice, system, options, provenance);
+  if (write_fields) {
+    lem::Summary s;
+    s.add("steps", static_cast<long long>(c.result.steps));
+    lem::write_tension_fields(options.output_dir + "/fields", lattice, system, provenance, s);
+  }
+  return c;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return lem::run_driver(argc, argv, help, [](MPI_Comm comm) {
+    lem::SampleOptions sample = lem::read_sample_options(comm);
+    lem::FractureOptions options = lem::read_fracture_options(comm);
+    double break_strain = 1e-3, sigma_unit = 0;
+    bool calibrate = true, fields = true;
+    {
+      lem::OptionGroup g(comm, "Fracture run and output");
+      break_strain = g.real("-lattice_break_strain", "Generated lattices: a bond breaks when "
+                            "stretched by this fraction of the mean bond length (f = k a eps)",
+                            1e-3, 0.0, 1.0, true);
+      calibrate = g.flag("-fracture_calibrate", "Sample files: first break the homogeneous "
+                         "lattice of particle bonds to measure sigma^[p] and E^[p] (paper "
+                         "sect. 3), written to <output_dir>/calibration/", true);
+      sigma_unit = g.real("-fracture_sigma_unit", "Normalise stresses by this value instead "
+                          "(E^phase units; e.g. sigma^[p] from an earlier calibration; 0: "
+                          "calibrate or use sigma^p)", 0.0, 0.0, 1e12);
+      options.output_dir = g.string("-output_dir", "Directory of the results", "results/fracture");
+      fields = g.flag("-output_fields", "Write the final displacements and bond states to "
+                      "HDF5/XDMF", true);
+    }
+    lem::check_option_names({"lattice_", "fcc_", "inclusion_", "sample_", "phase_", "output_",
+                             "fracture_", "strength_", "checkpoint_"});
+    const bool from_file = !sample.sample_file.empty();
+    const auto provenance = lem::collect_provenance(comm, "lem_fracture");
+    lem::prepare_output_dir(comm, options.output_dir,
+                            {"summary.json", "summary.csv", "curve.csv", "broken.csv",
+                             "fields.h5", "fields.xmf", "fracture.png"});
+
+    const double e_p = sample.phases.modulus[0], s_p = sample.phases.strength[0];
+    double sigma_hom = 0, e_hom = 0;
+    if (from_file && calibrate && sigma_unit == 0) {
+      lem::SampleOptions hom = sample;
+      hom.homogeneous = true;
+      lem::FractureOptions hom_options = options;
+      hom_options.output_dir = options.output_dir + "/calibration";
+      hom_options.strength_unit = s_p;
+      lem::prepare_output_dir(comm, hom_options.output_dir, {"curve.csv", "broken.csv"});
+      lem::say("calibration: the homogeneous lattice (every bond E^p = %g, sigma^p = %g)\n", e_p,
+               s_p);
+      const Case hom_case = run_case(comm, hom, break_strain, hom_options, provenance, false);
+      sigma_hom = hom_case.result.peak_stress * hom_case.stress_unit;
+      e_hom = hom_case.result.young_modulus * hom_case.stress_unit;
+      lem::say("calibration: sigma^[p] = %.6g, E^[p] = %.6g (E^phase units)\n", sigma_hom, e_hom);
+    }
+    options.strength_unit = sigma_unit > 0 ? sigma_unit : sigma_hom > 0 ? sigma_hom
+                                                      : from_file ? s_p : 1.0;
+    options.modulus_unit = e_hom > 0 ? e_hom : from_file ? e_p : 1.0;
+    const Case c = run_case(comm, sample, break_strain, options, provenance, fields);
+    lem::check_unused_options();
+
+    const lem::FractureResult& r = c.result;
+    const double e_eff = r.young_modulus * c.stress_unit, s_eff = r.peak_stress * c.stress_unit;
+    lem::Summary s;
+    s.add("sample_file", sample.sample_file);
+    s.add("nodes", static_cast<long long>(c.setup.sample.stats.nodes));
+    s.add("active_bonds", static_cast<long long>(c.setup.active_bonds));
+    s.add("increment_over_a", options.increment);
+    s.add("break_rule", std::string(options.break_all ? "all" : "most_critical"));
+    s.add("sigma_unit", options.strength_unit, "stress");
+    s.add("E_unit", options.modulus_unit, "stress");
+    s.add("sigma_hom", sigma_hom, "stress");
+    s.add("E_hom", e_hom, "stress");
+    s.add("E_eff", e_eff, "stress");
+    s.add("E_eff_over_E_unit", e_eff / options.modulus_unit);
+    s.add("sigma_eff", s_eff, "stress");
+    s.add("sigma_eff_over_sigma_unit", s_eff / options.strength_unit);
+    s.add("strain_at_peak", r.strain_at_peak);
+    s.add("final_strain", r.final_strain);
+    s.add("final_stress_over_sigma_unit", r.final_stress * c.stress_unit / options.strength_unit);
+    s.add("broken", static_cast<long long>(r.broken_total()));
+    const char* names[lem::kBondPhases] = {"p", "m", "v", "pp", "pm"};
+    for (int k = 0; k < lem::kBondPhases; ++k)
+      if (k != 2) s.add(std::string("broken_") + names[k], static_cast<long long>(r.broken[k]));
+    s.add("n_b", r.particle_damage());
+    s.add("detached_bonds", static_cast<long long>(r.detached_bonds));
+    s.add("pinned_nodes", static_cast<long long>(r.pinned_nodes));
+    s.add("steps", static_cast<long long>(r.steps));
+    s.add("visited_steps", static_cast<long long>(r.visited_steps));
+    s.add("rupture_steps", static_cast<long long>(r.rupture_steps));
+    s.add("relaxation_cycles", static_cast<long long>(r.relaxation_cycles));
+    s.add("solves", static_cast<long long>(r.solves));
+    s.add("ksp_iterations", static_cast<long long>(r.iterations));
+    s.add("pc_builds", static_cast<long long>(r.preconditioner_builds));
+    s.add("fallback_solves", static_cast<long long>(r.fallback_solves));
+    // A plain run solves at every step plus every relaxation cycle.
+    s.add("solves_stepping_estimate", static_cast<long long>(r.steps + r.relaxation_cycles));
+    s.add("work", r.work, "lattice");
+    s.add("stored_energy", r.stored_energy, "lattice");
+    s.add("released_energy", r.released_energy, "lattice");
+    s.add("energy_balance_error", r.energy_balance_error);
+    s.add("end_reason", r.end_reason);
+    s.add("resumed", static_cast<long long>(r.resumed));
+    s.add("seconds", r.seconds, "s");
+    int ranks = 1, rank = 0;
+    MPI_Comm_size(comm, &ranks);
+    MPI_Comm_rank(comm, &rank);
+    s.add("mpi_ranks", static_cast<long long>(ranks));
+    lem::say("end: %s at step %lld\n", r.end_reason.c_str(), (long long)r.steps);
+    lem::say("E_eff = %.6g (%.4f E_unit)   sigma_eff = %.6g (%.4f sigma_unit) at strain %.4e\n",
+             e_eff, e_eff / options.modulus_unit, s_eff, s_eff / options.strength_unit,
+             r.strain_at_peak);
+    lem::say("broken %lld bonds (n_b = %.4f), %lld solves (%lld iterations, %lld PC builds) over "
+             "%lld steps; energy balance error %.2e; %.1f s\n",
+             (long long)r.broken_total(), r.particle_damage(), (long long)r.solves,
+             (long long)r.iterations, (long long)r.preconditioner_builds, (long long)r.steps,
+             r.energy_balance_error, r.seconds);
+    if (rank == 0) {
+      lem::write_text_file_atomically(options.output_dir + "/summary.csv", s.csv());
+      lem::write_text_file_atomically(options.output_dir + "/summary.json", s.json());
+    }
+    lem::say("results in %s/\n", options.output_dir.c_str());
+  });
+}

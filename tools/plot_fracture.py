@@ -1,0 +1,259 @@
+#!/usr/bin/python3
+"""Pictures of a tensile fracture run written by lem_fracture.
+
+Usage: /usr/bin/python3 tools/plot_fracture.py RESULTS_DIR
+Reads RESULTS_DIR/curve.csv, broken.csv, summary.json (and, if present, the
+homogeneous-lattice calibration run RESULTS_DIR/calibration/curve.csv);
+writes RESULTS_DIR/fracture.png with three panels (Affes et al. 2012):
+(a) stress-strain curve sigma_zz/sigma_unit against epsilon_zz (fig. 3), with
+the stress drops of the rupture steps as vertical segments, the peak
+sigma_eff and E_eff; (b) 3D map of the broken-bond midpoints coloured by
+phase (fig. 4); (c) share n_b of broken bonds inside the particles and
+cumulative broken bonds per phase against strain (fig. 13).
+"""
+import csv
+import json
+import os
+import sys
+
+import matplotlib
+import numpy as np
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+CURVE_COLUMNS = ("strain", "stress_before_norm", "stress_norm", "broken",
+                 "broken_p", "broken_m", "broken_pp", "broken_pm", "n_b")
+BROKEN_COLUMNS = ("phase", "x", "y", "z")
+PHASES = ("p", "m", "pp", "pm")
+PHASE_NAMES = {"p": "particle", "m": "matrix", "pp": "particle-particle",
+               "pm": "particle-matrix"}
+PHASE_COLORS = {"p": "tab:red", "m": "tab:blue", "pp": "tab:green", "pm": "tab:orange"}
+MAX_SCATTER = 60000  # broken bonds drawn in panel (b); the legend counts all of them
+STRAIN_SCALE = 1e3   # strain axes are in units of 1e-3
+
+
+def read_table(path, required):
+    """Rows of a CSV file (leading '#' lines skipped) as {column: list of str}."""
+    try:
+        with open(path, newline="") as f:
+            # comment lines become empty rows so that line_num stays the file's
+            lines = ("\n" if line.startswith("#") else line for line in f)
+            reader = csv.reader(lines)
+            header = next((row for row in reader if row), None)
+            if header is None:
+                raise ValueError("no header line")
+            header = [h.strip() for h in header]
+            missing = [c for c in required if c not in header]
+            if missing:
+                raise ValueError(f"header lacks column(s) {', '.join(missing)}")
+            columns = {h: [] for h in header}
+            for row in reader:
+                if not row:
+                    continue
+                if len(row) != len(header):
+                    raise ValueError(f"line {reader.line_num} has {len(row)} fields, "
+                                     f"the header has {len(header)}")
+                for h, v in zip(header, row):
+                    columns[h].append(v)
+    except (OSError, UnicodeDecodeError, csv.Error, ValueError) as e:
+        sys.exit(f"error: cannot read {path}: {e}")
+    return columns
+
+
+def to_float(path, columns, names):
+    try:
+        return {n: np.array(columns[n], dtype=float) for n in names}
+    except ValueError as e:
+        sys.exit(f"error: cannot read {path}: {e}")
+
+
+def read_curve(path):
+    columns = read_table(path, CURVE_COLUMNS)
+    curve = to_float(path, columns, CURVE_COLUMNS)
+    if curve["strain"].size == 0:
+        sys.exit(f"error: cannot read {path}: no data row")
+    return curve
+
+
+def read_broken(path):
+    columns = read_table(path, BROKEN_COLUMNS)
+    xyz = to_float(path, columns, ("x", "y", "z"))
+    xyz = np.column_stack([xyz["x"], xyz["y"], xyz["z"]])
+    phase = np.array([p.strip() for p in columns["phase"]], dtype=object)
+    return xyz, phase
+
+
+def read_summary(path):
+    try:
+        with open(path) as f:
+            summary = json.load(f)
+    except (OSError, UnicodeDecodeError, ValueError) as e:
+        sys.exit(f"error: cannot read {path}: {e}")
+    if not isinstance(summary, dict):
+        sys.exit(f"error: cannot read {path}: not a JSON object")
+    return summary
+
+
+def number(summary, key):
+    """summary[key] if it is a finite number, else None."""
+    value = summary.get(key)
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        return None
+    return float(value) if np.isfinite(value) else None
+
+
+def sawtooth(curve):
+    """Strain and stress points (before, then after the ruptures of each step),
+    starting at the unloaded state, so that stress drops are vertical."""
+    strain = np.concatenate([[0.0], np.repeat(curve["strain"], 2)])
+    stress = np.concatenate(
+        [[0.0], np.column_stack([curve["stress_before_norm"], curve["stress_norm"]]).ravel()])
+    return strain * STRAIN_SCALE, stress
+
+
+def panel_stress(ax, curve, calibration, summary):
+    if calibration is not None:
+        ax.plot(*sawtooth(calibration), color="0.6", lw=1.0, zorder=1,
+                label="homogeneous lattice (calibration)")
+    e_eff = number(summary, "E_eff_over_E_unit")
+    label = "sample"
+    if e_eff is not None:
+        label += rf", $E_{{\rm eff}}/E_{{\rm unit}}$ = {e_eff:.4g}"
+    ax.plot(*sawtooth(curve), color="k", lw=1.2, zorder=2, label=label)
+    sigma_eff = number(summary, "sigma_eff_over_sigma_unit")
+    strain_peak = number(summary, "strain_at_peak")
+    label = rf"peak, $\sigma_{{\rm eff}}/\sigma_{{\rm unit}}$ = "
+    if sigma_eff is None or strain_peak is None:  # not in summary.json: take the curve's
+        i = int(np.argmax(curve["stress_before_norm"]))
+        sigma_eff, strain_peak = curve["stress_before_norm"][i], curve["strain"][i]
+        label = r"curve maximum, $\sigma_{zz}/\sigma_{\rm unit}$ = "
+    ax.plot([strain_peak * STRAIN_SCALE], [sigma_eff], "o", color="tab:red", ms=6, zorder=3,
+            label=label + f"{sigma_eff:.4g}")
+    ax.set_xlim(left=0)
+    ax.set_ylim(0, 1.25 * ax.get_ylim()[1])  # a free band on top for the legend
+    ax.set_xlabel(r"$\epsilon_{zz}$ ($\times 10^{-3}$)")
+    ax.set_ylabel(r"$\sigma_{zz}\,/\,\sigma^{[p]}$")
+    ax.set_title("(a) stress-strain", fontsize=10)
+    ax.legend(loc="upper left", fontsize=7.5, framealpha=0.9)
+
+
+def panel_bonds(ax, xyz, phase):
+    ax.set_title("(b) broken bonds", fontsize=10)
+    ax.set_xlabel("x", labelpad=-6)
+    ax.set_ylabel("y", labelpad=-6)
+    ax.set_zlabel("z", labelpad=-6)
+    ax.tick_params(labelsize=7, pad=0)
+    ax.view_init(elev=15, azim=-60)
+    try:
+        ax.set_box_aspect((1, 1, 1), zoom=1.1)
+    except TypeError:  # matplotlib < 3.6
+        ax.set_box_aspect((1, 1, 1))
+    n = len(phase)
+    if n == 0:
+        ax.text2D(0.5, 0.5, "no broken bond", transform=ax.transAxes,
+                  ha="center", va="center", fontsize=12)
+        return
+    # one scatter in random order, so that no phase hides the others wholesale
+    order = np.random.default_rng(0).permutation(n)[:MAX_SCATTER]
+    if n > MAX_SCATTER:
+        ax.set_title(f"(b) broken bonds ({MAX_SCATTER} of {n} drawn)", fontsize=10)
+    colors = np.array([PHASE_COLORS.get(p, "0.4") for p in phase[order]], dtype=object)
+    pts = xyz[order]
+    ax.scatter(pts[:, 0], pts[:, 1], pts[:, 2], s=3 if len(order) <= 10000 else 1,
+               marker="o", linewidths=0, c=list(colors), depthshade=False)
+    others = sorted(set(phase) - set(PHASES))
+    for p in list(PHASES) + others:
+        count = int((phase == p).sum())
+        if count:  # legend entry only
+            ax.plot([], [], "o", ms=4, color=PHASE_COLORS.get(p, "0.4"),
+                    label=f"{p} ({PHASE_NAMES.get(p, 'unknown phase')}): {count}")
+    # equal scales on the three axes, a cube around the broken bonds
+    lo, hi = xyz.min(axis=0), xyz.max(axis=0)
+    centre, half = (lo + hi) / 2, max((hi - lo).max() / 2, 1e-12)
+    ax.set_xlim(centre[0] - half, centre[0] + half)
+    ax.set_ylim(centre[1] - half, centre[1] + half)
+    ax.set_zlim(centre[2] - half, centre[2] + half)
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.01), ncol=2, fontsize=7.5,
+              frameon=False, columnspacing=1.0, handletextpad=0.1)
+
+
+def panel_damage(ax, curve):
+    strain = np.concatenate([[0.0], curve["strain"]]) * STRAIN_SCALE
+    n_b = np.concatenate([[np.nan], np.where(curve["broken"] > 0, curve["n_b"], np.nan)])
+    handles = ax.plot(strain, n_b, color="k", lw=1.8, drawstyle="steps-post",
+                      label=r"$n_b$ (left axis)")
+    # both axes leave a free band on top for the legend
+    ax.set_ylim(0, 1.3)
+    ax.set_yticks(np.linspace(0, 1, 6))
+    ax.set_xlim(left=0, right=strain[-1])
+    ax.set_xlabel(r"$\epsilon_{zz}$ ($\times 10^{-3}$)")
+    ax.set_ylabel(r"$n_b$ = broken in particles / all broken")
+    ax.set_title("(c) damage", fontsize=10)
+    right = ax.twinx()
+    for p in PHASES:
+        count = np.concatenate([[0.0], curve["broken_" + p]])
+        if count[-1] == 0:
+            continue
+        handles += right.plot(strain, count, color=PHASE_COLORS[p], lw=1.0, ls="--",
+                              drawstyle="steps-post", label=f"broken {p}")
+    total = np.concatenate([[0.0], curve["broken"]])
+    handles += right.plot(strain, total, color="0.5", lw=1.0, ls=":",
+                          drawstyle="steps-post", label="all broken")
+    right.set_ylim(bottom=0, top=max(1.0, total.max()) * 1.3)
+    right.set_ylabel("cumulative broken bonds (dashed, dotted)")
+    right.ticklabel_format(axis="y", style="sci", scilimits=(-3, 4))
+    ax.legend(handles=handles, loc="upper center", ncol=3, fontsize=7, framealpha=0.9,
+              columnspacing=0.8, handlelength=1.8, handletextpad=0.4)
+    if total[-1] == 0:
+        ax.text(0.5, 0.5, "no broken bond", transform=ax.transAxes,
+                ha="center", va="center", fontsize=12)
+
+
+def main():
+    if len(sys.argv) != 2:
+        sys.exit(__doc__)
+    directory = sys.argv[1].rstrip("/") or "/"
+    if not os.path.isdir(directory):
+        sys.exit(f"error: {directory} is not a directory")
+    summary = read_summary(f"{directory}/summary.json")
+    curve = read_curve(f"{directory}/curve.csv")
+    xyz, phase = read_broken(f"{directory}/broken.csv")
+    calibration_file = f"{directory}/calibration/curve.csv"
+    calibration = read_curve(calibration_file) if os.path.exists(calibration_file) else None
+
+    fig = plt.figure(figsize=(12, 4.5))
+    grid = fig.add_gridspec(1, 3, width_ratios=(1, 1.15, 1), left=0.055, right=0.935,
+                            bottom=0.13, top=0.88, wspace=0.3)
+    ax_a = fig.add_subplot(grid[0])
+    ax_b = fig.add_subplot(grid[1], projection="3d")
+    ax_c = fig.add_subplot(grid[2])
+    panel_stress(ax_a, curve, calibration, summary)
+    panel_bonds(ax_b, xyz, phase)
+    panel_damage(ax_c, curve)
+
+    def text(value):  # free text from summary.json, no mathtext
+        return str(value).replace("$", r"\$")
+
+    title = [text(os.path.basename(str(summary.get("sample_file", directory))))]
+    if "broken" in summary:
+        title.append(f"{summary['broken']} broken bonds")
+        if number(summary, "n_b") is not None:
+            title[-1] += f" ($n_b$ = {summary['n_b']:.3f})"
+    if "steps" in summary:
+        title.append(f"{summary['steps']} steps, {summary.get('solves', '?')} solves")
+    if number(summary, "energy_balance_error") is not None:
+        title.append(f"energy balance error {summary['energy_balance_error']:.2g}")
+    if "end_reason" in summary:
+        title.append(f"end: {text(summary['end_reason'])}")
+    fig.suptitle(", ".join(title), fontsize=10)
+    out = f"{directory}/fracture.png"
+    try:
+        fig.savefig(out, dpi=120)
+    except OSError as e:
+        sys.exit(f"error: cannot write {out}: {e}")
+    print(f"wrote {out}")
+
+
+if __name__ == "__main__":
+    main()
