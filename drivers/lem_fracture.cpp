@@ -10,6 +10,7 @@
 #include "lem/setup.hpp"
 #include "lem/tension_output.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 static const char help[] =
@@ -34,11 +35,11 @@ Case run_case(MPI_Comm comm, const lem::SampleOptions& sample, double break_stra
   Case c;
   auto lattice = lem::setup_tension_lattice(
       comm, [&](lem::SampleInfo& info) { return lem::build_sample(sample, info); }, c.setup);
-  // Stress unit: a sample file's bonds have k = E^phase a_s (a_s: mean length
-  // of all its bonds); a generated lattice's k is -lattice_k.
+  // Stress unit: a sample file's bonds have k = E^phase a_s and f =
+  // sigma^phase a_s^2, so its stresses are already in E^phase units; a
+  // generated lattice's are given in units of k/a (k = -lattice_k).
   const bool from_file = !sample.sample_file.empty();
-  c.stress_unit = from_file ? c.setup.sample.stats.mean_length
-                            : lattice.mean_bond_length / sample.random.stiffness;
+  c.stress_unit = from_file ? 1.0 : lattice.mean_bond_length / sample.random.stiffness;
   options.stress_unit = c.stress_unit;
   if (lattice.bond_strength.empty()) {  // generated lattice: f = k a eps_b
     lattice.bond_strength.resize(lattice.bond_stiffness.size());
@@ -99,6 +100,9 @@ int main(int argc, char** argv) {
       lem::FractureOptions hom_options = options;
       hom_options.output_dir = options.output_dir + "/calibration";
       hom_options.strength_unit = s_p;
+      // Only the peak is needed: stop once well past it.
+      hom_options.stop_fraction = std::max(options.stop_fraction, 0.5);
+      hom_options.checkpoint_seconds = 0;
       lem::prepare_output_dir(comm, hom_options.output_dir, {"curve.csv", "broken.csv"});
       lem::say("calibration: the homogeneous lattice (every bond E^p = %g, sigma^p = %g)\n", e_p,
                s_p);

@@ -46,13 +46,11 @@ int main(int argc, char** argv) {
     const auto solve = system.solve(delta * lattice.mean_bond_length);
     lem::check_unused_options();
     const auto response = system.response();
-    // Moduli in units of k/a.  A sample file's bonds have k = E^phase a_s with
-    // a_s the mean length of all its bonds (void ones too, paper sect. 2.2),
-    // while `lattice` knows only the bonds in the system: choose k so that
-    // k/a = 1/a_s, i.e. E_eff comes out in the stress units of E^phase.
+    // Moduli in units of k/a.  A sample file's bonds have k = E^phase a_s and
+    // f = sigma^phase a_s^2 in the sample's length unit, so its stresses and
+    // moduli already come out in the units of E^phase: take k = a (unit 1).
     const bool from_file = !sample.sample_file.empty();
-    const double bond_k = from_file ? lattice.mean_bond_length / setup.sample.stats.mean_length
-                                    : sample.random.stiffness;
+    const double bond_k = from_file ? lattice.mean_bond_length : sample.random.stiffness;
     auto summary = lem::tension_summary(setup, lattice, bond_k, response, solve);
     const double unit = bond_k / lattice.mean_bond_length;
     const double e_p = sample.phases.modulus[static_cast<int>(lem::Phase::p)];

@@ -1,11 +1,17 @@
 #!/bin/bash
-# The main job: elastic uniaxial tension of a paper-size random lattice
-# (about 1.3 million bonds) on 2 ranks; prints E and nu, writes
-# results/main/{summary.json,summary.csv,fields.h5,fields.xmf,tension.png}.
-# Extra arguments are passed to lem_tension (PETSc options).
+# The main job: quasi-static tension to failure of the shipped cemented
+# sample meshes/tiny.h5 on 2 ranks (paper sect. 2.3): calibrates sigma^[p]
+# and E^[p] on the homogeneous lattice, breaks the sample, prints E_eff and
+# sigma_eff, and writes results/main/{summary.json,summary.csv,curve.csv,
+# broken.csv,fields.h5,fields.xmf,fracture.png}.
+# Extra arguments are passed to lem_fracture (PETSc options).
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 bash "$root/jobs/build.sh"
 cd "$root"
-bash jobs/mpirun.sh "${LEM_RANKS:-2}" build/lem_tension -options_file jobs/main.opts "$@"
-/usr/bin/python3 tools/plot_tension.py results/main
+bash jobs/mpirun.sh "${LEM_RANKS:-2}" build/lem_fracture -options_file jobs/main.opts "$@"
+dir=results/main
+for ((i = 1; i <= $#; ++i)); do
+  [ "${!i}" = "-output_dir" ] && { j=$((i + 1)); dir="${!j}"; }
+done
+/usr/bin/python3 tools/plot_fracture.py "$dir"

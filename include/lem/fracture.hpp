@@ -43,7 +43,8 @@ struct FractureOptions {
   double increment = 3e-4;           // top displacement per step, units of a
   bool break_all = true;             // paper's rule; false: most critical only
   bool skip_idle = true;             // jump over increments without rupture
-  double stop_fraction = 0.02;       // end when sigma < this * peak after the peak
+  double stop_fraction = 0.05;       // end when sigma < this * peak after the peak
+  double max_strain_ratio = 10;      // ... or when the strain exceeds this * peak strain
   std::int64_t max_steps = 1000000;
   std::int64_t rebuild_after_ruptures = 2000;  // 0: never by count
   double rebuild_iteration_growth = 2.5;       // 0: never by iterations

@@ -36,6 +36,9 @@ FractureOptions read_fracture_options(MPI_Comm comm) {
     o.stop_fraction = g.real("-fracture_stop_fraction", "End the run once the stress has "
                              "fallen below this fraction of the peak", o.stop_fraction, 0.0,
                              1.0, true, true);
+    o.max_strain_ratio = g.real("-fracture_max_strain_ratio", "End the run once the strain "
+                                "exceeds this multiple of the strain at the peak (the slow "
+                                "post-failure tail; 0: no limit)", o.max_strain_ratio, 0.0, 1e9);
     o.max_steps = g.integer("-fracture_max_steps", "Largest load step (the run ends there)",
                             o.max_steps, 1, 1'000'000'000);
     o.rebuild_after_ruptures = g.integer(
@@ -350,6 +353,14 @@ class Protocol {
     for (int b = 0; b < l.local_bonds(); ++b) local_bond_[l.bond_id[b]].push_back(b);
     for (int n = 0; n < l.local_nodes(); ++n) local_node_[l.node_id[n]] = n;
     fingerprint_ = make_fingerprint();
+    // Forces below this are solver noise: a bond with a zero threshold (bare
+    // contacts, sigma^pp = 0) breaks only on a tension above it.
+    double sums[2] = {0, 0}, totals[2];
+    for (int b = 0; b < l.local_bonds(); ++b)
+      if (l.bond_reported[b] && !l.bond_strength.empty() && l.bond_strength[b] > 0)
+        sums[0] += l.bond_strength[b], sums[1] += 1;
+    MPI_Allreduce(sums, totals, 2, MPI_DOUBLE, MPI_SUM, l.comm);
+    force_floor_ = totals[1] > 0 ? 1e-6 * totals[0] / totals[1] : 0.0;
     checkpoint_path_ = o.output_dir + "/checkpoint.bin";
     curve_path_ = o.output_dir + "/curve.csv";
     log_path_ = o.output_dir + "/broken.csv";
@@ -395,6 +406,7 @@ class Protocol {
   Counters c_;
   Checkpoint events_;  // the event lists (counters and displacement unused)
   bool disconnected_ = false, resumed_ = false;
+  double force_floor_ = 0;  // 1e-6 of the mean positive threshold
   double start_ = 0, last_checkpoint_time_ = 0, last_progress_ = 0;
 };
 
@@ -416,7 +428,7 @@ std::string Protocol::make_fingerprint() const {
   s << "ranks=" << ranks_ << "\nnodes=" << l_.global_nodes << "\nbonds=" << l_.global_bonds
     << "\nsample_checksum=" << total << "\nincrement=" << o_.increment
     << "\nbreak_rule=" << (o_.break_all ? "all" : "most_critical")
-    << "\nskip_idle=" << o_.skip_idle << "\nstop_fraction=" << o_.stop_fraction
+    << "\nskip_idle=" << o_.skip_idle
     << "\npc_rebuild_ruptures=" << o_.rebuild_after_ruptures
     << "\npc_rebuild_growth=" << o_.rebuild_iteration_growth << "\n";
   // Solver options change the iterates.
@@ -498,6 +510,9 @@ void Protocol::open_results(bool resumed) {
       }
       curve_ = std::fopen(curve_part.c_str(), "ab");
       log_ = std::fopen(log_part.c_str(), "ab");
+      // ftell() of a fresh append stream may say 0 until the first write.
+      if (curve_) std::fseek(curve_, 0, SEEK_END);
+      if (log_) std::fseek(log_, 0, SEEK_END);
     } else {
       curve_ = std::fopen(curve_part.c_str(), "wb");
       log_ = std::fopen(log_part.c_str(), "wb");
@@ -553,7 +568,7 @@ std::vector<Rupture> Protocol::find_critical() const {
   for (int b = 0; b < l_.local_bonds(); ++b) {
     if (!l_.bond_reported[b] || l_.bond_stiffness[b] <= 0) continue;
     const double t = tension[b], f = l_.bond_strength[b];
-    if (!(t > f)) continue;
+    if (!(t > f) || t <= force_floor_) continue;
     const auto [p, q] = l_.bond_ends[b];
     Rupture r{};
     r.id = l_.bond_id[b];
@@ -589,7 +604,8 @@ std::int64_t Protocol::next_critical_step() const {
   double first = std::numeric_limits<double>::infinity();
   for (int b = 0; b < l_.local_bonds(); ++b) {
     if (!l_.bond_reported[b] || l_.bond_stiffness[b] <= 0 || !(tension[b] > 0)) continue;
-    first = std::min(first, std::floor(n * l_.bond_strength[b] / tension[b]) + 1.0);
+    const double f = std::max(l_.bond_strength[b], force_floor_);
+    first = std::min(first, std::floor(n * f / tension[b]) + 1.0);
   }
   double global = 0;
   MPI_Allreduce(&first, &global, 1, MPI_DOUBLE, MPI_MIN, l_.comm);
@@ -822,6 +838,9 @@ FractureResult Protocol::run() {
     if (disconnected_) end = "no piece joins the bottom to the top face";
     else if (broken > 0 && c_.reaction / (l_.box.length(0) * l_.box.length(1)) < stop_level)
       end = "stress below the stop fraction of the peak";
+    else if (broken > 0 && o_.max_strain_ratio > 0 && c_.strain_at_peak > 0 &&
+             strain_of(c_.step) > o_.max_strain_ratio * c_.strain_at_peak)
+      end = "strain beyond -fracture_max_strain_ratio times the strain at the peak";
     else if (c_.step >= o_.max_steps) end = "reached -fracture_max_steps";
     if (!end.empty()) break;
 

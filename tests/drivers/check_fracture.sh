@@ -1,0 +1,136 @@
+#!/bin/bash
+# Fracture protocol checks on a small random lattice (lem_fracture).
+# Usage: check_fracture.sh MODE LEM_FRACTURE WORKDIR MPIEXEC [MPI flags...]
+#   skip_vs_step    jumping over idle increments gives the broken-bond sequence
+#                   of stepping through every increment, and the same curve
+#   ranks           1 rank and 2 ranks break the same bonds in the same order
+#   restart_kill    kill -9 after a checkpoint; the rerun resumes and its curve
+#                   and log equal those of an uninterrupted run, byte for byte
+#   restart_signal  SIGUSR1 writes a checkpoint and exits 4; the rerun resumes
+#   bad_checkpoint  a checkpoint of other options, another rank count or a
+#                   corrupt file is refused with a named error
+set -u
+mode="$1"; prog="$2"; work="$3"; shift 3
+mpi=("$@")
+py=/usr/bin/python3
+case_args=(-lattice_bonds 6000 -lattice_seed 3 -strength_disorder uniform
+           -fracture_stop_fraction 0.3 -output_fields false)
+fail() { echo "FAIL: $*"; exit 1; }
+run() {  # run RANKS DIR [extra args]: the driver, output in DIR/log
+  local n="$1" dir="$2"; shift 2
+  mkdir -p "$dir"
+  "${mpi[@]}" -n "$n" "$prog" "${case_args[@]}" -output_dir "$dir" "$@" > "$dir/log" 2>&1
+}
+sequence() { cut -d, -f1,2,4 "$1/broken.csv"; }   # step, cycle, bond id
+rm -rf "$work"; mkdir -p "$work"
+
+compare_curves() {  # compare_curves A B TOL: rows of A's steps found in B agree
+  $py - "$1/curve.csv" "$2/curve.csv" "$3" <<'EOF' || exit 1
+import csv, sys
+def rows(p):
+    return {int(r["step"]): r for r in csv.DictReader(l for l in open(p) if not l.startswith("#"))}
+a, b, tol = rows(sys.argv[1]), rows(sys.argv[2]), float(sys.argv[3])
+peak = max(abs(float(r["stress_norm"])) for r in b.values())
+worst = 0.0
+for step, r in a.items():
+    if step not in b:
+        sys.exit(f"FAIL: step {step} missing in {sys.argv[2]}")
+    for k in ("stress_before_norm", "stress_norm"):
+        worst = max(worst, abs(float(r[k]) - float(b[step][k])) / peak)
+    if r["broken"] != b[step]["broken"]:
+        sys.exit(f"FAIL: broken count differs at step {step}")
+print(f"curves: {len(a)} rows compared, largest stress difference {worst:.2e} of the peak")
+if worst > tol:
+    sys.exit(f"FAIL: stress differs by {worst:.2e} of the peak (tolerance {tol})")
+EOF
+}
+summary() { $py -c "import json,sys; print(json.load(open(sys.argv[1]))[sys.argv[2]])" "$1/summary.json" "$2"; }
+
+case "$mode" in
+skip_vs_step)
+  run 2 "$work/skip" -fracture_skip_idle true || fail "skip run: $(tail -3 "$work/skip/log")"
+  run 2 "$work/step" -fracture_skip_idle false || fail "step run: $(tail -3 "$work/step/log")"
+  [ "$(summary "$work/skip" broken)" -gt 20 ] || fail "too few ruptures to test anything"
+  diff <(sequence "$work/skip") <(sequence "$work/step") > /dev/null ||
+    fail "broken-bond sequences differ"
+  compare_curves "$work/skip" "$work/step" 1e-7
+  s1=$(summary "$work/skip" solves); s2=$(summary "$work/step" solves)
+  [ "$s1" -lt "$s2" ] || fail "skipping did not save solves ($s1 vs $s2)"
+  for d in skip step; do
+    $py -c "import json,sys; e=json.load(open(sys.argv[1]))['energy_balance_error']; sys.exit(e > 1e-6)" \
+      "$work/$d/summary.json" || fail "energy balance error above 1e-6 in $d"
+  done
+  echo "ok: same $(summary "$work/skip" broken) ruptures in the same order; solves $s1 (skip) vs $s2 (step)"
+  ;;
+ranks)
+  run 1 "$work/np1" || fail "1 rank: $(tail -3 "$work/np1/log")"
+  run 2 "$work/np2" || fail "2 ranks: $(tail -3 "$work/np2/log")"
+  diff <(sequence "$work/np1") <(sequence "$work/np2") > /dev/null ||
+    fail "1 and 2 ranks break different bonds"
+  compare_curves "$work/np1" "$work/np2" 1e-7
+  echo "ok: 1 and 2 ranks break the same $(summary "$work/np1" broken) bonds in the same order"
+  ;;
+restart_kill|restart_signal)
+  args=(-checkpoint_steps 4 -checkpoint_seconds 0)
+  run 2 "$work/whole" "${args[@]}" || fail "uninterrupted run: $(tail -3 "$work/whole/log")"
+  mkdir -p "$work/cut"
+  setsid "${mpi[@]}" -n 2 "$prog" "${case_args[@]}" -output_dir "$work/cut" "${args[@]}" \
+    > "$work/cut/log1" 2>&1 &
+  leader=$!
+  # Wait for a checkpoint with some ruptures behind it, then interrupt.
+  for _ in $(seq 1 600); do
+    if [ -s "$work/cut/checkpoint.bin" ] && [ "$(wc -l < "$work/cut/broken.csv.part" 2>/dev/null || echo 0)" -gt 15 ]; then
+      break
+    fi
+    sleep 0.05
+  done
+  [ -s "$work/cut/checkpoint.bin" ] || { kill -9 -- -"$leader"; fail "no checkpoint appeared"; }
+  if [ "$mode" = restart_kill ]; then
+    # Every process of the run, as a batch system would (ranks may sit in
+    # another process group than mpirun).
+    kill -9 -- -"$leader"
+    pkill -9 -f -- "-output_dir $work/cut " 2>/dev/null
+    wait "$leader" 2>/dev/null
+    while pgrep -f -- "-output_dir $work/cut " > /dev/null; do sleep 0.05; done
+  else
+    kill -USR1 "$leader"
+    wait "$leader"; status=$?
+    [ "$status" -ne 0 ] || fail "the signalled run exited 0"
+    grep -q "stopped by a signal" "$work/cut/log1" || fail "no signal message: $(tail -3 "$work/cut/log1")"
+  fi
+  [ ! -e "$work/cut/curve.csv" ] || fail "an interrupted run left curve.csv looking complete"
+  run 2 "$work/cut" "${args[@]}" || fail "resumed run: $(tail -3 "$work/cut/log")"
+  grep -q "^resumed from" "$work/cut/log" || fail "the rerun did not resume: $(head -3 "$work/cut/log")"
+  # Identical apart from the wall-clock column.
+  diff <(cut -d, -f1-21 "$work/whole/curve.csv") <(cut -d, -f1-21 "$work/cut/curve.csv") > /dev/null ||
+    fail "resumed curve differs from the uninterrupted one"
+  cmp -s "$work/whole/broken.csv" "$work/cut/broken.csv" || fail "resumed broken-bond log differs"
+  echo "ok: $(grep '^resumed' "$work/cut/log"); curve and log identical to the uninterrupted run"
+  ;;
+bad_checkpoint)
+  # A run stopped by a signal leaves a checkpoint to misuse.
+  args=(-checkpoint_steps 4 -checkpoint_seconds 0)
+  mkdir -p "$work/cut"
+  "${mpi[@]}" -n 2 "$prog" "${case_args[@]}" -output_dir "$work/cut" "${args[@]}" \
+    > "$work/cut/log1" 2>&1 &
+  leader=$!
+  for _ in $(seq 1 600); do [ -s "$work/cut/checkpoint.bin" ] && break; sleep 0.05; done
+  kill -USR1 "$leader"; wait "$leader"
+  [ -s "$work/cut/checkpoint.bin" ] || fail "no checkpoint to test with"
+  cp "$work/cut/checkpoint.bin" "$work/good.bin"
+  expect() {  # expect PATTERN RANKS [args]
+    local pattern="$1" n="$2"; shift 2
+    "${mpi[@]}" -n "$n" "$prog" "${case_args[@]}" -output_dir "$work/cut" "${args[@]}" "$@" \
+      > "$work/cut/log" 2>&1 && fail "accepted: $*"
+    grep -qE -- "$pattern" "$work/cut/log" || fail "message for '$*' does not match '$pattern': $(head -3 "$work/cut/log")"
+    [ ! -e "$work/cut/summary.json" ] || fail "a summary was written despite the error"
+    echo "ok: $(grep -E -- "$pattern" "$work/cut/log" | head -1)"
+  }
+  expect "checkpoint: increment=" 2 -fracture_increment 2e-4
+  cp "$work/good.bin" "$work/cut/checkpoint.bin"
+  expect "checkpoint: ranks=2 +this run: ranks=1" 1
+  head -c 200 "$work/good.bin" > "$work/cut/checkpoint.bin"
+  expect "not a valid lem checkpoint" 2
+  ;;
+*) fail "unknown mode $mode" ;;
+esac
