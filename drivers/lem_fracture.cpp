@@ -92,6 +92,9 @@ int main(int argc, char** argv) {
                             {"summary.json", "summary.csv", "curve.csv", "broken.csv",
                              "fields.h5", "fields.xmf", "fracture.png"});
 
+    // Every option has been read once the first solve is done: a misspelt
+    // one stops the run there, not hours later.
+    options.after_first_solve = [] { lem::check_unused_options(); };
     const double e_p = sample.phases.modulus[0], s_p = sample.phases.strength[0];
     double sigma_hom = 0, e_hom = 0;
     if (from_file && calibrate && sigma_unit == 0) {
@@ -115,7 +118,6 @@ int main(int argc, char** argv) {
                                                       : from_file ? s_p : 1.0;
     options.modulus_unit = e_hom > 0 ? e_hom : from_file ? e_p : 1.0;
     const Case c = run_case(comm, sample, break_strain, options, provenance, fields);
-    lem::check_unused_options();
 
     const lem::FractureResult& r = c.result;
     const double e_eff = r.young_modulus * c.stress_unit, s_eff = r.peak_stress * c.stress_unit;

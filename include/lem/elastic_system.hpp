@@ -103,6 +103,7 @@ class ElasticSystem {
   void assemble_rhs(double top_displacement);
   void update_ghosts() const;
   SolveReport attempt_solve();
+  void create_fallback();
   SolveReport fallback_solve();
   Point local_displacement(const PetscScalar* u_local, int node) const;
 
@@ -112,7 +113,7 @@ class ElasticSystem {
   Vec b_ = nullptr;
   Vec u_start_ = nullptr;  // initial guess kept for a retry
   KSP ksp_ = nullptr;
-  KSP fallback_ksp_ = nullptr;  // CG + Jacobi, created on first need
+  KSP fallback_ksp_ = nullptr;  // CG + Jacobi, for solves the multigrid fails
   double diagonal_scale_ = 1.0;
   double ground_ = 0.0;  // diagonal added on free dofs (-lattice_ground_stiffness)
   double current_displacement_ = 0.0;

@@ -32,6 +32,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -63,6 +64,8 @@ struct FractureOptions {
   double strength_unit = 1.0;        // sigma^[p] for the normalised columns
   double modulus_unit = 1.0;         // E^[p]
   double stress_unit = 1.0;          // converts sigma_zz (k/a units) to E^phase units
+  /// Called once after the first solve (drivers check the options there).
+  std::function<void()> after_first_solve;
 };
 
 /// Read the -fracture_*, -strength_* and -checkpoint_* options.

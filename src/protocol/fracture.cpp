@@ -405,6 +405,13 @@ class Protocol {
   std::FILE* log_ = nullptr;
   Counters c_;
   Checkpoint events_;  // the event lists (counters and displacement unused)
+  // The last equilibrium, written as the checkpoint if a solve fails.
+  struct Snapshot {
+    Counters counters;
+    std::size_t bond_events = 0, node_events = 0;
+    std::vector<double> u;
+  } last_;
+  void take_snapshot();
   bool disconnected_ = false, resumed_ = false;
   double force_floor_ = 0;  // 1e-6 of the mean positive threshold
   double start_ = 0, last_checkpoint_time_ = 0, last_progress_ = 0;
@@ -431,11 +438,8 @@ std::string Protocol::make_fingerprint() const {
     << "\nskip_idle=" << o_.skip_idle
     << "\npc_rebuild_ruptures=" << o_.rebuild_after_ruptures
     << "\npc_rebuild_growth=" << o_.rebuild_iteration_growth << "\n";
-  // Solver options change the iterates.
-  std::istringstream all(options_as_text());
-  for (std::string line; std::getline(all, line);)
-    for (const char* prefix : {"-ksp_", "-pc_", "-mg_", "-mat_"})
-      if (line.rfind(prefix, 0) == 0) s << "option " << line << "\n";
+  // Solver options are left out on purpose: a run stopped by a failed solve
+  // may be resumed with others (then equal to the tolerance, not bitwise).
   return s.str();
 }
 
@@ -564,6 +568,12 @@ void Protocol::apply_batch(const std::vector<std::int64_t>& bonds,
 
 std::vector<Rupture> Protocol::find_critical() const {
   const std::vector<double> tension = system_.bond_tensions();
+  std::int64_t bad = -1, worst = -1;
+  for (int b = 0; b < l_.local_bonds() && bad < 0; ++b)
+    if (!std::isfinite(tension[b])) bad = l_.bond_id[b];
+  MPI_Allreduce(&bad, &worst, 1, MPI_INT64_T, MPI_MAX, l_.comm);  // every rank decides alike
+  if (worst >= 0)
+    throw NumericalError("bond " + std::to_string(worst) + " has a non-finite force");
   std::vector<Rupture> mine;
   for (int b = 0; b < l_.local_bonds(); ++b) {
     if (!l_.bond_reported[b] || l_.bond_stiffness[b] <= 0) continue;
@@ -667,6 +677,15 @@ void Protocol::visit_idle(std::int64_t step) {
   write_row(step, r, r.stress_zz, 0, true);
 }
 
+PetscLogStage rupture_stage() {
+  static PetscLogStage stage = [] {
+    PetscLogStage s;
+    PetscLogStageRegister("Ruptures", &s);
+    return s;
+  }();
+  return stage;
+}
+
 void Protocol::visit(std::int64_t step, bool first) {
   const double previous = system_.top_displacement();
   const double delta = step_displacement(step);
@@ -681,8 +700,12 @@ void Protocol::visit(std::int64_t step, bool first) {
   int cycles = 0;
   std::int64_t new_breaks = 0;
   for (;;) {
+    LEM_PETSC(PetscLogStagePush(rupture_stage()));
     const std::vector<Rupture> critical = find_critical();
-    if (critical.empty()) break;
+    if (critical.empty()) {
+      LEM_PETSC(PetscLogStagePop());
+      break;
+    }
     c_.batches += 1;
     std::vector<std::int64_t> ids;
     ids.reserve(critical.size());
@@ -726,6 +749,7 @@ void Protocol::visit(std::int64_t step, bool first) {
     }
     c_.pieces = pieces.pieces;
     system_.finish_updates();
+    LEM_PETSC(PetscLogStagePop());
     c_.ruptures_since_build += static_cast<std::int64_t>(critical.size());
     if (o_.rebuild_after_ruptures > 0 && c_.ruptures_since_build >= o_.rebuild_after_ruptures)
       system_.rebuild_preconditioner();
@@ -776,9 +800,25 @@ void Protocol::progress(std::int64_t step, double stress, std::int64_t new_break
       (long long)c_.iterations, (long long)c_.builds, elapsed, estimate.c_str());
 }
 
+void Protocol::take_snapshot() {
+  if (rank_ == 0) {
+    std::fflush(curve_);
+    std::fflush(log_);
+    c_.curve_bytes = std::ftell(curve_);
+    c_.log_bytes = std::ftell(log_);
+  }
+  MPI_Bcast(&c_.curve_bytes, 1, MPI_INT64_T, 0, l_.comm);
+  MPI_Bcast(&c_.log_bytes, 1, MPI_INT64_T, 0, l_.comm);
+  last_.counters = c_;
+  last_.counters.seconds_before = c_.seconds_before + MPI_Wtime() - start_;
+  last_.bond_events = events_.bond_events.size();
+  last_.node_events = events_.node_events.size();
+  last_.u = system_.solution();
+}
+
 void Protocol::write_checkpoint() {
-  // Displacements by lattice node id, gathered on rank 0.
-  const std::vector<double> u = system_.solution();
+  // The last equilibrium (take_snapshot), displacements by lattice node id.
+  const std::vector<double>& u = last_.u;
   std::vector<std::int64_t> ids(l_.node_id.begin(), l_.node_id.begin() + l_.owned);
   const auto all_ids = allgather(l_.comm, ids);
   const auto all_u = allgather(l_.comm, u);
@@ -787,20 +827,17 @@ void Protocol::write_checkpoint() {
     std::fflush(log_);
     ::fsync(fileno(curve_));
     ::fsync(fileno(log_));
-    c_.curve_bytes = std::ftell(curve_);
-    c_.log_bytes = std::ftell(log_);
   }
-  MPI_Bcast(&c_.curve_bytes, 1, MPI_INT64_T, 0, l_.comm);
-  MPI_Bcast(&c_.log_bytes, 1, MPI_INT64_T, 0, l_.comm);
   run_on_root(l_.comm, [&] {
     Checkpoint c;
-    c.counters = c_;
-    c.counters.seconds_before = c_.seconds_before + MPI_Wtime() - start_;
+    c.counters = last_.counters;
     c.fingerprint = fingerprint_;
-    c.bond_events = events_.bond_events;
-    c.bond_batches = events_.bond_batches;
-    c.node_events = events_.node_events;
-    c.node_batches = events_.node_batches;
+    const auto nb = static_cast<std::ptrdiff_t>(last_.bond_events);
+    const auto nn = static_cast<std::ptrdiff_t>(last_.node_events);
+    c.bond_events.assign(events_.bond_events.begin(), events_.bond_events.begin() + nb);
+    c.bond_batches.assign(events_.bond_batches.begin(), events_.bond_batches.begin() + nb);
+    c.node_events.assign(events_.node_events.begin(), events_.node_events.begin() + nn);
+    c.node_batches.assign(events_.node_batches.begin(), events_.node_batches.begin() + nn);
     c.displacement.assign(3 * static_cast<std::size_t>(l_.global_nodes), 0.0);
     for (std::size_t i = 0; i < all_ids.size(); ++i)
       for (int a = 0; a < 3; ++a) c.displacement[3 * all_ids[i] + a] = all_u[3 * i + a];
@@ -831,6 +868,7 @@ FractureResult Protocol::run() {
     c_.next_checkpoint_step = o_.checkpoint_steps;
     visit(1, true);
   }
+  if (o_.after_first_solve) o_.after_first_solve();
   std::string end;
   for (;;) {
     const double stop_level = o_.stop_fraction * c_.peak_stress;
@@ -852,6 +890,7 @@ FractureResult Protocol::run() {
     if (signal || by_steps || (o_.checkpoint_seconds > 0 && since >= o_.checkpoint_seconds)) {
       while (o_.checkpoint_steps > 0 && c_.next_checkpoint_step <= c_.step)
         c_.next_checkpoint_step += o_.checkpoint_steps;
+      take_snapshot();
       write_checkpoint();
       if (signal)
         throw Interrupted("stopped by a signal at step " + std::to_string(c_.step) +
@@ -865,8 +904,17 @@ FractureResult Protocol::run() {
                                                      : "reached -fracture_max_steps";
       break;
     }
-    if (next - 1 > c_.step) visit_idle(next - 1);
-    visit(next, false);
+    take_snapshot();
+    try {
+      if (next - 1 > c_.step) visit_idle(next - 1);
+      visit(next, false);
+    } catch (const NumericalError& e) {
+      write_checkpoint();
+      throw NumericalError(std::string(e.what()) + "; the state of step " +
+                           std::to_string(last_.counters.step) + " is saved in " +
+                           checkpoint_path_ + ": rerun (e.g. with other -ksp_/-pc_ options) "
+                           "to resume from it");
+    }
   }
 
   // Complete: move the results into place, drop the checkpoint.

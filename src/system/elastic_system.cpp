@@ -138,6 +138,7 @@ ElasticSystem::ElasticSystem(DistributedLattice& lattice) : lattice_(lattice) {
   LEM_PETSC(KSPSetOperators(ksp_, K_, K_));
   LEM_PETSC(KSPSetInitialGuessNonzero(ksp_, PETSC_TRUE));
   LEM_PETSC(KSPSetFromOptions(ksp_));
+  create_fallback();  // now, so that its -fallback_* options count as used
   LEM_PETSC(PetscLogStagePop());
 }
 
@@ -328,8 +329,8 @@ SolveReport ElasticSystem::attempt_solve() {
   return report;
 }
 
-SolveReport ElasticSystem::fallback_solve() {
-  if (!fallback_ksp_) {
+void ElasticSystem::create_fallback() {
+  {
     LEM_PETSC(KSPCreate(lattice_.comm, &fallback_ksp_));
     LEM_PETSC(KSPSetOptionsPrefix(fallback_ksp_, "fallback_"));
     LEM_PETSC(KSPSetType(fallback_ksp_, KSPCG));
@@ -343,6 +344,9 @@ SolveReport ElasticSystem::fallback_solve() {
     LEM_PETSC(KSPSetInitialGuessNonzero(fallback_ksp_, PETSC_TRUE));
     LEM_PETSC(KSPSetFromOptions(fallback_ksp_));
   }
+}
+
+SolveReport ElasticSystem::fallback_solve() {
   LEM_PETSC(KSPSetOperators(fallback_ksp_, K_, K_));
   SolveReport report;
   const double t0 = MPI_Wtime();

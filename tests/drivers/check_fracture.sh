@@ -9,6 +9,8 @@
 #   restart_signal  SIGUSR1 writes a checkpoint and exits 4; the rerun resumes
 #   bad_checkpoint  a checkpoint of other options, another rank count or a
 #                   corrupt file is refused with a named error
+#   solver_failure  a solve that fails for good writes the last equilibrium
+#                   as a checkpoint and exits 2; the rerun resumes from it
 set -u
 mode="$1"; prog="$2"; work="$3"; shift 3
 mpi=("$@")
@@ -131,6 +133,24 @@ bad_checkpoint)
   expect "checkpoint: ranks=2 +this run: ranks=1" 1
   head -c 200 "$work/good.bin" > "$work/cut/checkpoint.bin"
   expect "not a valid lem checkpoint" 2
+  ;;
+solver_failure)
+  # A solve that fails for good (iteration caps) leaves a checkpoint of the
+  # last equilibrium, a named error, exit 2 and no complete-looking results;
+  # the rerun with working options resumes and finishes.
+  run 2 "$work/whole" || fail "reference run: $(tail -3 "$work/whole/log")"
+  run 2 "$work/cut" -ksp_max_it 24 -fallback_ksp_max_it 10
+  status=$?
+  [ "$status" -eq 2 ] || fail "exit status $status, expected 2: $(tail -3 "$work/cut/log")"
+  grep -q "is saved in .*checkpoint.bin" "$work/cut/log" || fail "no checkpoint message: $(tail -3 "$work/cut/log")"
+  [ -s "$work/cut/checkpoint.bin" ] || fail "no checkpoint written"
+  [ ! -e "$work/cut/curve.csv" ] && [ ! -e "$work/cut/summary.json" ] || fail "results look complete"
+  run 2 "$work/cut" || fail "resumed run: $(tail -3 "$work/cut/log")"
+  grep -q "^resumed from" "$work/cut/log" || fail "the rerun did not resume"
+  [ "$(summary "$work/cut" broken)" = "$(summary "$work/whole" broken)" ] ||
+    fail "resumed run broke $(summary "$work/cut" broken) bonds, the reference $(summary "$work/whole" broken)"
+  diff <(sequence "$work/whole") <(sequence "$work/cut") > /dev/null || fail "rupture sequences differ"
+  echo "ok: failed solve left a checkpoint; the resumed run breaks the same $(summary "$work/cut" broken) bonds in the same order"
   ;;
 *) fail "unknown mode $mode" ;;
 esac
