@@ -105,6 +105,7 @@ int main(int argc, char** argv) {
       hom_options.strength_unit = s_p;
       // Only the peak is needed: stop once well past it.
       hom_options.stop_fraction = std::max(options.stop_fraction, 0.5);
+      hom_options.stop_within_step = true;
       hom_options.checkpoint_seconds = 0;
       lem::prepare_output_dir(comm, hom_options.output_dir, {"curve.csv", "broken.csv"});
       lem::say("calibration: the homogeneous lattice (every bond E^p = %g, sigma^p = %g)\n", e_p,

@@ -24,7 +24,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 CURVE_COLUMNS = ("strain", "stress_before_norm", "stress_norm", "broken",
                  "broken_p", "broken_m", "broken_pp", "broken_pm", "n_b")
-BROKEN_COLUMNS = ("phase", "x", "y", "z")
+BROKEN_COLUMNS = ("phase", "x", "y", "z", "threshold")
 PHASES = ("p", "m", "pp", "pm")
 PHASE_NAMES = {"p": "particle", "m": "matrix", "pp": "particle-particle",
                "pm": "particle-matrix"}
@@ -81,7 +81,10 @@ def read_broken(path):
     xyz = to_float(path, columns, ("x", "y", "z"))
     xyz = np.column_stack([xyz["x"], xyz["y"], xyz["z"]])
     phase = np.array([p.strip() for p in columns["phase"]], dtype=object)
-    return xyz, phase
+    # Bonds of zero threshold (bare contacts, sigma^pp = 0) open at the first
+    # tension: they are no crack and are counted, not drawn.
+    bare = to_float(path, columns, ("threshold",))["threshold"] <= 0
+    return xyz, phase, bare
 
 
 def read_summary(path):
@@ -114,8 +117,10 @@ def sawtooth(curve):
 
 def panel_stress(ax, curve, calibration, summary):
     if calibration is not None:
-        ax.plot(*sawtooth(calibration), color="0.6", lw=1.0, zorder=1,
-                label="homogeneous lattice (calibration)")
+        # Its own curve is normalised by sigma^p; sigma^[p] is its peak.
+        strain, stress = sawtooth(calibration)
+        ax.plot(strain, stress / max(stress.max(), 1e-300), color="0.6", lw=1.0, zorder=1,
+                label=r"homogeneous lattice (calibration: peak = $\sigma^{[p]}$)")
     e_eff = number(summary, "E_eff_over_E_unit")
     label = "sample"
     if e_eff is not None:
@@ -138,7 +143,7 @@ def panel_stress(ax, curve, calibration, summary):
     ax.legend(loc="upper left", fontsize=7.5, framealpha=0.9)
 
 
-def panel_bonds(ax, xyz, phase):
+def panel_bonds(ax, xyz, phase, bare):
     ax.set_title("(b) broken bonds", fontsize=10)
     ax.set_xlabel("x", labelpad=-6)
     ax.set_ylabel("y", labelpad=-6)
@@ -149,10 +154,18 @@ def panel_bonds(ax, xyz, phase):
         ax.set_box_aspect((1, 1, 1), zoom=1.1)
     except TypeError:  # matplotlib < 3.6
         ax.set_box_aspect((1, 1, 1))
+    bare_count = int(bare.sum())
+    xyz, phase = xyz[~bare], phase[~bare]
+    if bare_count:  # legend entry only
+        ax.plot([], [], "o", ms=4, color="white",
+                label=f"bare contacts opened (not drawn): {bare_count}")
     n = len(phase)
     if n == 0:
         ax.text2D(0.5, 0.5, "no broken bond", transform=ax.transAxes,
                   ha="center", va="center", fontsize=12)
+        if bare_count:
+            ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.01), fontsize=7.5,
+                      frameon=False)
         return
     # one scatter in random order, so that no phase hides the others wholesale
     order = np.random.default_rng(0).permutation(n)[:MAX_SCATTER]
@@ -218,7 +231,7 @@ def main():
         sys.exit(f"error: {directory} is not a directory")
     summary = read_summary(f"{directory}/summary.json")
     curve = read_curve(f"{directory}/curve.csv")
-    xyz, phase = read_broken(f"{directory}/broken.csv")
+    xyz, phase, bare = read_broken(f"{directory}/broken.csv")
     calibration_file = f"{directory}/calibration/curve.csv"
     calibration = read_curve(calibration_file) if os.path.exists(calibration_file) else None
 
@@ -229,7 +242,7 @@ def main():
     ax_b = fig.add_subplot(grid[1], projection="3d")
     ax_c = fig.add_subplot(grid[2])
     panel_stress(ax_a, curve, calibration, summary)
-    panel_bonds(ax_b, xyz, phase)
+    panel_bonds(ax_b, xyz, phase, bare)
     panel_damage(ax_c, curve)
 
     def text(value):  # free text from summary.json, no mathtext

@@ -46,6 +46,8 @@ struct FractureOptions {
   bool skip_idle = true;             // jump over increments without rupture
   double stop_fraction = 0.05;       // end when sigma < this * peak after the peak
   double max_strain_ratio = 10;      // ... or when the strain exceeds this * peak strain
+  bool stop_within_step = false;     // test the stop fraction after every relaxation
+                                     // cycle (calibration: only the peak matters)
   std::int64_t max_steps = 1000000;
   std::int64_t rebuild_after_ruptures = 2000;  // 0: never by count
   double rebuild_iteration_growth = 2.5;       // 0: never by iterations

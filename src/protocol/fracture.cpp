@@ -759,6 +759,9 @@ void Protocol::visit(std::int64_t step, bool first) {
       disconnected_ = true;
       break;
     }
+    if (o_.stop_within_step &&
+        system_.response().stress_zz < o_.stop_fraction * std::max(c_.peak_stress, stress_before))
+      break;  // the run ends after this step (the stress check of run())
   }
   if (rank_ == 0 && new_breaks > 0) std::fflush(log_);
   r = system_.response();
