@@ -83,6 +83,9 @@ int main(int argc, char** argv) {
       options.output_dir = g.string("-output_dir", "Directory of the results", "results/fracture");
       fields = g.flag("-output_fields", "Write the final displacements and bond states to "
                       "HDF5/XDMF", true);
+      options.snapshot_steps = g.integer("-output_snapshot_steps", "Also write them (as "
+                                         "snapshot_<step>.h5/.xmf) once in every this many "
+                                         "load steps (0: never)", 0, 0, 1'000'000'000);
     }
     lem::check_option_names({"lattice_", "fcc_", "inclusion_", "sample_", "phase_", "output_",
                              "fracture_", "strength_", "checkpoint_"});
@@ -107,6 +110,7 @@ int main(int argc, char** argv) {
       hom_options.stop_fraction = std::max(options.stop_fraction, 0.5);
       hom_options.stop_within_step = true;
       hom_options.checkpoint_seconds = 0;
+      hom_options.snapshot_steps = 0;
       lem::prepare_output_dir(comm, hom_options.output_dir, {"curve.csv", "broken.csv"});
       lem::say("calibration: the homogeneous lattice (every bond E^p = %g, sigma^p = %g)\n", e_p,
                s_p);

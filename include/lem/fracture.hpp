@@ -63,6 +63,7 @@ struct FractureOptions {
   bool resume = true;                // resume from <output_dir>/checkpoint.bin
   // Results.
   std::string output_dir = "results/fracture";
+  std::int64_t snapshot_steps = 0;   // fields every this many load steps (0: none)
   double strength_unit = 1.0;        // sigma^[p] for the normalised columns
   double modulus_unit = 1.0;         // E^[p]
   double stress_unit = 1.0;          // converts sigma_zz (k/a units) to E^phase units

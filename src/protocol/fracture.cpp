@@ -4,6 +4,7 @@
 #include "lem/error.hpp"
 #include "lem/options.hpp"
 #include "lem/pieces.hpp"
+#include "lem/tension_output.hpp"
 
 #include <algorithm>
 #include <cerrno>
@@ -12,6 +13,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fcntl.h>
+#include <filesystem>
 #include <limits>
 #include <sstream>
 #include <unistd.h>
@@ -414,6 +416,7 @@ class Protocol {
   void take_snapshot();
   bool disconnected_ = false, resumed_ = false;
   double force_floor_ = 0;  // 1e-6 of the mean positive threshold
+  std::int64_t last_snapshot_ = 0;  // step of the previous visit
   double start_ = 0, last_checkpoint_time_ = 0, last_progress_ = 0;
 };
 
@@ -520,6 +523,11 @@ void Protocol::open_results(bool resumed) {
     } else {
       curve_ = std::fopen(curve_part.c_str(), "wb");
       log_ = std::fopen(log_part.c_str(), "wb");
+      // Snapshots of an earlier run would mix with this run's.
+      std::error_code ec;
+      for (const auto& entry : std::filesystem::directory_iterator(o_.output_dir, ec))
+        if (entry.path().filename().string().rfind("snapshot_", 0) == 0)
+          std::filesystem::remove(entry.path(), ec);
     }
     if (!curve_ || !log_)
       throw InputError("cannot write the results in '" + o_.output_dir + "': " +
@@ -755,6 +763,12 @@ void Protocol::visit(std::int64_t step, bool first) {
       system_.rebuild_preconditioner();
     account(system_.solve(delta), true);
     cycles += 1;
+    if (MPI_Wtime() - last_progress_ >= 10.0) {  // a long avalanche: say it goes on
+      last_progress_ = MPI_Wtime();
+      say("step %7lld  relaxing: cycle %d, %lld bonds broken at this step so far, %.1f s\n",
+          (long long)step, cycles, (long long)new_breaks,
+          c_.seconds_before + last_progress_ - start_);
+    }
     if (!pieces.faces_joined) {
       disconnected_ = true;
       break;
@@ -778,6 +792,17 @@ void Protocol::visit(std::int64_t step, bool first) {
   }
   write_row(step, r, stress_before, cycles, false);
   progress(step, r.stress_zz, new_breaks, cycles);
+  if (o_.snapshot_steps > 0 && step / o_.snapshot_steps != last_snapshot_ / o_.snapshot_steps) {
+    // Zero-padded names: ParaView opens the series as one time-dependent set.
+    char stem[32];
+    std::snprintf(stem, sizeof(stem), "/snapshot_%07lld", static_cast<long long>(step));
+    Summary s;
+    s.add("step", static_cast<long long>(step));
+    s.add("strain", r.strain_zz);
+    s.add("stress_norm", r.stress_zz * o_.stress_unit / o_.strength_unit);
+    write_tension_fields(o_.output_dir + stem, l_, system_, provenance_, s);
+  }
+  last_snapshot_ = step;
 }
 
 void Protocol::progress(std::int64_t step, double stress, std::int64_t new_breaks, int cycles) {
