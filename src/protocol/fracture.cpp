@@ -393,6 +393,7 @@ class Protocol {
                  bool idle);
   bool stop_requested();
   void progress(std::int64_t step, double stress, std::int64_t new_breaks, int cycles);
+  void check_first_increment() const;
 
   DistributedLattice& l_;
   ElasticSystem& system_;
@@ -704,6 +705,7 @@ void Protocol::visit(std::int64_t step, bool first) {
   TensionResponse r = system_.response();
   c_.work += 0.5 * (c_.reaction + r.reaction) * (delta - previous);
   const double stress_before = r.stress_zz, energy_before = r.stored_energy;
+  if (first) check_first_increment();
 
   int cycles = 0;
   std::int64_t new_breaks = 0;
@@ -803,6 +805,32 @@ void Protocol::visit(std::int64_t step, bool first) {
     write_tension_fields(o_.output_dir + stem, l_, system_, provenance_, s);
   }
   last_snapshot_ = step;
+}
+
+void Protocol::check_first_increment() const {
+  // Bonds of positive threshold broken in bulk by the very first increment
+  // mean the increment skips the whole elastic regime.
+  const std::vector<double> tension = system_.bond_tensions();
+  double local[2] = {0, 0}, global[2];  // count over threshold, largest force/threshold
+  std::int64_t counted = 0, total = 0;
+  for (int b = 0; b < l_.local_bonds(); ++b) {
+    if (!l_.bond_reported[b] || l_.bond_stiffness[b] <= 0 || l_.bond_strength[b] <= 0) continue;
+    ++counted;
+    const double ratio = tension[b] / l_.bond_strength[b];
+    if (ratio > 1) local[0] += 1;
+    local[1] = std::max(local[1], ratio);
+  }
+  MPI_Allreduce(&local[0], &global[0], 1, MPI_DOUBLE, MPI_SUM, l_.comm);
+  MPI_Allreduce(&local[1], &global[1], 1, MPI_DOUBLE, MPI_MAX, l_.comm);
+  MPI_Allreduce(&counted, &total, 1, MPI_INT64_T, MPI_SUM, l_.comm);
+  if (total > 0 && global[0] > 1e-3 * static_cast<double>(total)) {
+    std::ostringstream m;
+    m << "option -fracture_increment = " << o_.increment << " is too large for this sample: "
+      << "the first increment already overloads " << static_cast<long long>(global[0])
+      << " bonds (up to " << global[1] << " times their threshold); take it below "
+      << o_.increment / (10 * global[1]) << " so that the elastic regime has a few steps";
+    throw InputError(m.str());
+  }
 }
 
 void Protocol::progress(std::int64_t step, double stress, std::int64_t new_breaks, int cycles) {

@@ -9,6 +9,7 @@
 #   restart_signal  SIGUSR1 writes a checkpoint and exits 4; the rerun resumes
 #   bad_checkpoint  a checkpoint of other options, another rank count or a
 #                   corrupt file is refused with a named error
+#   most_critical   the other break rule: one bond per cycle, rank-independent
 #   solver_failure  a solve that fails for good writes the last equilibrium
 #                   as a checkpoint and exits 2; the rerun resumes from it
 set -u
@@ -133,6 +134,19 @@ bad_checkpoint)
   expect "checkpoint: ranks=2 +this run: ranks=1" 1
   head -c 200 "$work/good.bin" > "$work/cut/checkpoint.bin"
   expect "not a valid lem checkpoint" 2
+  ;;
+most_critical)
+  # One bond per relaxation cycle, the same on 1 and 2 ranks.
+  run 1 "$work/np1" -fracture_break_rule most_critical -fracture_stop_fraction 0.8 ||
+    fail "1 rank: $(tail -3 "$work/np1/log")"
+  run 2 "$work/np2" -fracture_break_rule most_critical -fracture_stop_fraction 0.8 ||
+    fail "2 ranks: $(tail -3 "$work/np2/log")"
+  [ "$(summary "$work/np1" broken)" -gt 5 ] || fail "too few ruptures to test anything"
+  dup=$(cut -d, -f1,2 "$work/np2/broken.csv" | sort | uniq -d | head -1)
+  [ -z "$dup" ] || fail "two bonds broke in one cycle (step,cycle = $dup)"
+  diff <(sequence "$work/np1") <(sequence "$work/np2") > /dev/null ||
+    fail "1 and 2 ranks break different bonds"
+  echo "ok: one bond per cycle, $(summary "$work/np1" broken) bonds in the same order on 1 and 2 ranks"
   ;;
 solver_failure)
   # A solve that fails for good (iteration caps) leaves a checkpoint of the
