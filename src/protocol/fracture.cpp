@@ -750,8 +750,8 @@ void Protocol::visit(std::int64_t step, bool first) {
       MPI_Allreduce(&detached, &total, 1, MPI_INT64_T, MPI_SUM, l_.comm);
       c_.detached += total;
       c_.pinned += static_cast<std::int64_t>(loose.size());
-      // Pinned rows stiffen: a kept preconditioner could turn indefinite.
-      system_.rebuild_preconditioner();
+      // Pinned rows trade their bonds for a diagonal of the same size: the
+      // kept preconditioner stays usable (a failure would retry with a new one).
       for (std::int64_t id : loose) {
         events_.node_events.push_back(id);
         events_.node_batches.push_back(c_.batches);
