@@ -66,7 +66,8 @@ struct FractureOptions {
   std::int64_t snapshot_steps = 0;   // fields every this many load steps (0: none)
   double strength_unit = 1.0;        // sigma^[p] for the normalised columns
   double modulus_unit = 1.0;         // E^[p]
-  double stress_unit = 1.0;          // converts sigma_zz (k/a units) to E^phase units
+  double stress_unit = 1.0;          // raw stress * this = stress in the units of the
+                                     // phase moduli (sample files: 1; lattices: a/k)
   /// Called once after the first solve (drivers check the options there).
   std::function<void()> after_first_solve;
 };
@@ -79,8 +80,8 @@ FractureOptions read_fracture_options(MPI_Comm comm);
 void apply_strength_disorder(DistributedLattice& lattice, const FractureOptions& options);
 
 struct FractureResult {
-  double young_modulus = 0;       // E_eff: sigma/eps of the first equilibrium (k/a units)
-  double peak_stress = 0;         // sigma_eff (k/a units)
+  double young_modulus = 0;       // E_eff: sigma/eps of the first equilibrium (raw units)
+  double peak_stress = 0;         // sigma_eff (raw units)
   double strain_at_peak = 0;
   double final_stress = 0, final_strain = 0;
   std::int64_t steps = 0;         // last load step reached
@@ -101,8 +102,9 @@ struct FractureResult {
 };
 
 /// Runs the protocol on an assembled system.  Writes <output_dir>/curve.csv,
-/// broken.csv (complete only at the end: *.part while running) and the
-/// checkpoint; `fingerprint` identifies the sample and options in it.
+/// broken.csv (complete only at the end: *.part while running), snapshots
+/// and checkpoint.bin (which records a hash of the sample and the options
+/// that change the results, so that a resume with others is refused).
 FractureResult run_fracture(DistributedLattice& lattice, ElasticSystem& system,
                             const FractureOptions& options, const Provenance& provenance);
 

@@ -51,7 +51,6 @@ FractureOptions read_fracture_options(MPI_Comm comm) {
         "-fracture_pc_rebuild_growth", "Rebuild the preconditioner when a relaxation solve "
         "takes more than this times the iterations of the first one after the last build (0: "
         "never for this reason)", o.rebuild_iteration_growth, 0.0, 1e6);
-    o.stress_unit = 1.0;
   }
   {
     OptionGroup g(comm, "Threshold disorder (seeded; the same on any rank count)");
