@@ -67,6 +67,7 @@ class ElasticSystem {
   /// the next solve build a fresh one from the current K.
   void set_reuse_preconditioner(bool reuse);
   void rebuild_preconditioner();
+  bool preconditioner_rebuild_pending() const { return pc_stale_; }
   /// Build the preconditioner from the current K now (restart replay).
   void build_preconditioner();
 

@@ -186,6 +186,7 @@ struct Counters {
   double work = 0, released = 0;
   std::int64_t pieces = 1;
   std::int64_t fallbacks = 0;       // solves finished by the Jacobi-CG fallback
+  std::int64_t rebuild_pending = 0; // the next solve must build a new preconditioner
 };
 
 struct Checkpoint {
@@ -500,6 +501,8 @@ bool Protocol::try_resume() {
   for (int n = 0; n < l_.owned; ++n)
     for (int a = 0; a < 3; ++a) owned[3 * n + a] = c.displacement[3 * l_.node_id[n] + a];
   system_.set_state(owned, step_displacement(c.counters.step));
+  // A rebuild asked for before the checkpoint (iteration growth, fallback).
+  if (c.counters.rebuild_pending) system_.rebuild_preconditioner();
   c_ = c.counters;
   return true;
 }
@@ -731,14 +734,14 @@ void Protocol::visit(std::int64_t step, bool first) {
     new_breaks += static_cast<std::int64_t>(critical.size());
     apply_batch(ids, {});
     // Pieces cut loose by this batch: pin them.
+    // Pinned rows trade their bonds for a diagonal of the same size: the
+    // kept preconditioner stays usable (a failure would retry with a new one).
     const PieceReport pieces = pieces_.find();
-    std::vector<std::int64_t> loose;
-    for (int n : pieces.loose_nodes) loose.push_back(l_.node_id[n]);
     // Every rank must list the same nodes: gather the owned ones.
     std::vector<std::int64_t> owned_loose;
     for (int n : pieces.loose_nodes)
       if (n < l_.owned) owned_loose.push_back(l_.node_id[n]);
-    loose = allgather(l_.comm, owned_loose);
+    std::vector<std::int64_t> loose = allgather(l_.comm, owned_loose);
     std::sort(loose.begin(), loose.end());
     if (!loose.empty()) {
       std::int64_t before = 0, after = 0;
@@ -749,8 +752,6 @@ void Protocol::visit(std::int64_t step, bool first) {
       MPI_Allreduce(&detached, &total, 1, MPI_INT64_T, MPI_SUM, l_.comm);
       c_.detached += total;
       c_.pinned += static_cast<std::int64_t>(loose.size());
-      // Pinned rows trade their bonds for a diagonal of the same size: the
-      // kept preconditioner stays usable (a failure would retry with a new one).
       for (std::int64_t id : loose) {
         events_.node_events.push_back(id);
         events_.node_batches.push_back(c_.batches);
@@ -864,6 +865,7 @@ void Protocol::take_snapshot() {
   }
   MPI_Bcast(&c_.curve_bytes, 1, MPI_INT64_T, 0, l_.comm);
   MPI_Bcast(&c_.log_bytes, 1, MPI_INT64_T, 0, l_.comm);
+  c_.rebuild_pending = system_.preconditioner_rebuild_pending();
   last_.counters = c_;
   last_.counters.seconds_before = c_.seconds_before + MPI_Wtime() - start_;
   last_.bond_events = events_.bond_events.size();

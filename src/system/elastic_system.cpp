@@ -281,8 +281,7 @@ SolveReport ElasticSystem::solve(double top_displacement) {
     LEM_PETSC(VecCopy(u_start_, u_));
     failed_iterations += report.iterations;
     report = fallback_solve();
-    report.preconditioner_built = true;  // the next solve builds a new one
-    pc_stale_ = true;
+    pc_stale_ = true;  // the next solve builds a new multigrid
   }
   report.iterations += failed_iterations;
   if (report.reason < 0 || !std::isfinite(report.residual_norm)) {
