@@ -21,9 +21,9 @@
 //
 // Every change of the matrix is a numbered batch of events (bonds broken,
 // nodes pinned).  A checkpoint stores the events, the step, the counters and
-// the displacements; a restart replays the events in order, building the
-// preconditioner after the same batch as the interrupted run did, so the
-// resumed run continues bit for bit as the uninterrupted one.
+// the displacements; a restart replays the events and every preconditioner
+// build in the same order as the interrupted run, so the resumed run
+// continues bit for bit as the uninterrupted one.
 #pragma once
 
 #include "lem/distributed_lattice.hpp"

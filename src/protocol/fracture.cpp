@@ -172,7 +172,6 @@ constexpr char kCheckpointMagic[8] = {'L', 'E', 'M', 'C', 'K', 'P', 'T', '1'};
 struct Counters {
   std::int64_t step = 0;            // last load step reached
   std::int64_t batches = 0;         // batches of matrix changes so far
-  std::int64_t pc_batch = 0;        // the preconditioner was built after this batch
   std::int64_t ruptures_since_build = 0;
   std::int64_t baseline_iterations = 0;  // first relaxation solve after the last build
   std::int64_t next_checkpoint_step = 0;
@@ -194,6 +193,7 @@ struct Checkpoint {
   std::string fingerprint;
   std::vector<std::int64_t> bond_events, bond_batches;  // broken bonds, in order
   std::vector<std::int64_t> node_events, node_batches;  // pinned nodes, in order
+  std::vector<std::int64_t> build_batches;  // every preconditioner build, after which batch
   std::vector<double> displacement;                     // 3 per lattice node id
 };
 
@@ -264,6 +264,7 @@ void write_checkpoint_file(const std::string& path, const Checkpoint& c) {
   w.pod(c.counters);
   w.str(c.fingerprint);
   w.vec(c.bond_events), w.vec(c.bond_batches), w.vec(c.node_events), w.vec(c.node_batches);
+  w.vec(c.build_batches);
   w.vec(c.displacement);
   const std::uint64_t sum = fnv1a(w.bytes.data(), w.bytes.size());
   w.pod(sum);
@@ -307,6 +308,7 @@ Checkpoint read_checkpoint_file(const std::string& path) {
     r.pod(c.counters);
     r.str(c.fingerprint);
     r.vec(c.bond_events), r.vec(c.bond_batches), r.vec(c.node_events), r.vec(c.node_batches);
+    r.vec(c.build_batches);
     r.vec(c.displacement);
     if (!r.at_end() || c.bond_events.size() != c.bond_batches.size() ||
         c.node_events.size() != c.node_batches.size())
@@ -411,7 +413,7 @@ class Protocol {
   // The last equilibrium, written as the checkpoint if a solve fails.
   struct Snapshot {
     Counters counters;
-    std::size_t bond_events = 0, node_events = 0;
+    std::size_t bond_events = 0, node_events = 0, builds = 0;
     std::vector<double> u;
   } last_;
   void take_snapshot();
@@ -477,12 +479,19 @@ bool Protocol::try_resume() {
     MPI_Bcast(v.data(), static_cast<int>(n * sizeof(T)), MPI_BYTE, 0, l_.comm);
   };
   share(c.bond_events), share(c.bond_batches), share(c.node_events), share(c.node_batches);
+  share(c.build_batches);
   share(c.displacement);
 
-  // Replay the matrix changes batch by batch, building the preconditioner
-  // after the same batch as the interrupted run.
-  std::size_t ib = 0, in = 0;
-  if (c.counters.pc_batch == 0) system_.build_preconditioner();
+  // Replay the matrix changes batch by batch and every preconditioner build
+  // after the same batch as the interrupted run: PETSc's multigrid set-up
+  // draws random numbers whose stream continues from one build to the next,
+  // so only the whole sequence gives the same preconditioner.
+  std::size_t ib = 0, in = 0, ip = 0;
+  auto builds_after = [&](std::int64_t batch) {
+    for (; ip < c.build_batches.size() && c.build_batches[ip] == batch; ++ip)
+      system_.build_preconditioner();
+  };
+  builds_after(0);
   for (std::int64_t batch = 1; batch <= c.counters.batches; ++batch) {
     std::vector<std::int64_t> bonds, nodes;
     for (; ib < c.bond_events.size() && c.bond_batches[ib] == batch; ++ib)
@@ -491,12 +500,13 @@ bool Protocol::try_resume() {
       nodes.push_back(c.node_events[in]);
     apply_batch(bonds, nodes);
     system_.finish_updates();
-    if (batch == c.counters.pc_batch) system_.build_preconditioner();
+    builds_after(batch);
   }
   events_.bond_events = std::move(c.bond_events);
   events_.bond_batches = std::move(c.bond_batches);
   events_.node_events = std::move(c.node_events);
   events_.node_batches = std::move(c.node_batches);
+  events_.build_batches = std::move(c.build_batches);
   std::vector<double> owned(3 * static_cast<std::size_t>(l_.owned));
   for (int n = 0; n < l_.owned; ++n)
     for (int a = 0; a < 3; ++a) owned[3 * n + a] = c.displacement[3 * l_.node_id[n] + a];
@@ -641,7 +651,7 @@ void Protocol::account(const SolveReport& report, bool relaxation) {
   c_.fallbacks += report.used_fallback;
   if (report.preconditioner_built) {
     c_.builds += 1;
-    c_.pc_batch = c_.batches;
+    events_.build_batches.push_back(c_.batches);
     c_.ruptures_since_build = 0;
     c_.baseline_iterations = 0;
   }
@@ -870,6 +880,7 @@ void Protocol::take_snapshot() {
   last_.counters.seconds_before = c_.seconds_before + MPI_Wtime() - start_;
   last_.bond_events = events_.bond_events.size();
   last_.node_events = events_.node_events.size();
+  last_.builds = events_.build_batches.size();
   last_.u = system_.solution();
 }
 
@@ -895,6 +906,9 @@ void Protocol::write_checkpoint() {
     c.bond_batches.assign(events_.bond_batches.begin(), events_.bond_batches.begin() + nb);
     c.node_events.assign(events_.node_events.begin(), events_.node_events.begin() + nn);
     c.node_batches.assign(events_.node_batches.begin(), events_.node_batches.begin() + nn);
+    c.build_batches.assign(events_.build_batches.begin(),
+                           events_.build_batches.begin() +
+                               static_cast<std::ptrdiff_t>(last_.builds));
     c.displacement.assign(3 * static_cast<std::size_t>(l_.global_nodes), 0.0);
     for (std::size_t i = 0; i < all_ids.size(); ++i)
       for (int a = 0; a < 3; ++a) c.displacement[3 * all_ids[i] + a] = all_u[3 * i + a];

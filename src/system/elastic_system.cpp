@@ -267,12 +267,14 @@ SolveReport ElasticSystem::solve(double top_displacement) {
   if (!u_start_) LEM_PETSC(VecDuplicate(u_, &u_start_));
   LEM_PETSC(VecCopy(u_, u_start_));
   SolveReport report = attempt_solve();
+  bool built = report.preconditioner_built;  // by any attempt (restart replays it)
   int failed_iterations = 0;
   if (report.reason < 0 && !report.preconditioner_built) {
     LEM_PETSC(VecCopy(u_start_, u_));
     failed_iterations += report.iterations;
     pc_stale_ = true;
     report = attempt_solve();
+    built = true;
   }
   if (report.reason < 0) {
     // Multigrid can still fail on a sample held by a hinge-like ligament
@@ -284,6 +286,7 @@ SolveReport ElasticSystem::solve(double top_displacement) {
     pc_stale_ = true;  // the next solve builds a new multigrid
   }
   report.iterations += failed_iterations;
+  report.preconditioner_built = built;
   if (report.reason < 0 || !std::isfinite(report.residual_norm)) {
     std::string hint;
     if (report.reason == KSP_DIVERGED_INDEFINITE_PC || report.reason == KSP_DIVERGED_INDEFINITE_MAT)
