@@ -82,7 +82,9 @@ int main(int argc, char** argv) {
                           "calibrate or use sigma^p)", 0.0, 0.0, 1e12);
       options.output_dir = g.string("-output_dir", "Directory of the results", "results/fracture");
       fields = g.flag("-output_fields", "Write the final displacements and bond states to "
-                      "HDF5/XDMF", true);
+                      "HDF5/XDMF (fields.h5), and those of the first equilibrium with the node "
+                      "stresses of eq. 1 (elastic.h5)", true);
+      options.elastic_fields = fields;
       options.snapshot_steps = g.integer("-output_snapshot_steps", "Also write them (as "
                                          "snapshot_<step>.h5/.xmf) once in every this many "
                                          "load steps (0: never)", 0, 0, 1'000'000'000);
@@ -93,7 +95,8 @@ int main(int argc, char** argv) {
     const auto provenance = lem::collect_provenance(comm, "lem_fracture");
     lem::prepare_output_dir(comm, options.output_dir,
                             {"summary.json", "summary.csv", "curve.csv", "broken.csv",
-                             "fields.h5", "fields.xmf", "fracture.png"});
+                             "fields.h5", "fields.xmf", "elastic.h5", "elastic.xmf",
+                             "fracture.png", "stress.png"});
 
     // Every option has been read once the first solve is done: a misspelt
     // one stops the run there, not hours later.
@@ -111,6 +114,7 @@ int main(int argc, char** argv) {
       hom_options.stop_within_step = true;
       hom_options.checkpoint_seconds = 0;
       hom_options.snapshot_steps = 0;
+      hom_options.elastic_fields = false;
       lem::prepare_output_dir(comm, hom_options.output_dir, {"curve.csv", "broken.csv"});
       lem::say("calibration: the homogeneous lattice (every bond E^p = %g, sigma^p = %g)\n", e_p,
                s_p);

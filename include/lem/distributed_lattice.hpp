@@ -32,6 +32,7 @@ struct DistributedLattice {
   std::vector<Point> coords;
   std::vector<std::uint8_t> dof_flags;     // DofFlag bits
   std::vector<std::uint8_t> faces;         // Face bits
+  std::vector<double> node_volume;         // Voronoi volume (empty: lattice had none)
 
   // Per local bond.
   std::vector<std::array<int, 2>> bond_ends;  // local node indices

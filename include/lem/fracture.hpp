@@ -64,6 +64,8 @@ struct FractureOptions {
   // Results.
   std::string output_dir = "results/fracture";
   std::int64_t snapshot_steps = 0;   // fields every this many load steps (0: none)
+  bool elastic_fields = false;       // <output_dir>/elastic.h5: the first equilibrium,
+                                     // with node stresses when the lattice has volumes
   double strength_unit = 1.0;        // sigma^[p] for the normalised columns
   double modulus_unit = 1.0;         // E^[p]
   double stress_unit = 1.0;          // raw stress * this = stress in the units of the

@@ -27,7 +27,9 @@ struct Provenance {
 };
 Provenance collect_provenance(MPI_Comm comm, const std::string& program);
 
-/// A named per-item field with `components` values per item (1 or 3).
+/// A named per-item field with `components` values per item: 1 (scalar), 3
+/// (vector) or 6 (symmetric tensor in XDMF's Tensor6 order xx, xy, xz, yy,
+/// yz, zz).
 struct Field {
   std::string name;
   int components = 1;

@@ -37,6 +37,9 @@ struct Lattice {
   /// and a tag carried along for the results (the phase of a cemented sample).
   std::vector<double> strength;
   std::vector<std::uint8_t> tag;
+  /// Optional per node (empty, or one per node): the box-clipped Voronoi
+  /// volume |V^i| that turns bond forces into node stresses (paper eq. 1).
+  std::vector<double> node_volume;
 
   std::size_t node_count() const { return nodes.size(); }
   std::size_t bond_count() const { return bonds.size(); }

@@ -16,7 +16,9 @@ Summary tension_summary(const SetupReport& setup, const DistributedLattice& latt
                         double bond_k, const TensionResponse& response,
                         const SolveReport& solve);
 
-/// <stem>.h5 / <stem>.xmf: displacements, bond forces and stiffnesses.
+/// <stem>.h5 / <stem>.xmf: displacements, bond forces and stiffnesses, and
+/// when the lattice has Voronoi volumes (sample files) the node stresses
+/// (`stress`, Tensor6; `stress_zz`) and the volumes.
 void write_tension_fields(const std::string& stem, const DistributedLattice& lattice,
                           const ElasticSystem& system, const Provenance& provenance,
                           const Summary& summary);

@@ -185,10 +185,10 @@ void check_fields(const std::vector<Field>& fields, std::size_t items, const cha
     } else if (!seen.insert(f.name).second) {
       error.set(ErrorKind::invalid_argument,
                 "write_lattice_fields: duplicate field " + where);
-    } else if (f.components != 1 && f.components != 3) {
+    } else if (f.components != 1 && f.components != 3 && f.components != 6) {
       error.set(ErrorKind::invalid_argument,
                 "write_lattice_fields: field " + where + " has " + std::to_string(f.components) +
-                    " components (allowed: 1 or 3)");
+                    " components (allowed: 1, 3 or 6)");
     } else if (f.values.size() != items * static_cast<std::size_t>(f.components)) {
       error.set(ErrorKind::invalid_argument,
                 "write_lattice_fields: field " + where + " has " + std::to_string(f.values.size()) +
@@ -321,7 +321,7 @@ void write_hdf5(MPI_Comm comm, const std::string& path, const NodeSlice& nodes,
                 node_rows, nodes.ids.data(), transfer.get(), path);
   for (const Field& f : nodes.fields) {
     write_dataset(comm, node_group.get(), "/nodes/" + f.name, f.name, H5T_IEEE_F64LE,
-                  H5T_NATIVE_DOUBLE, f.components == 1 ? node_rows : with_columns(node_rows, 3),
+                  H5T_NATIVE_DOUBLE, f.components == 1 ? node_rows : with_columns(node_rows, f.components),
                   f.values.data(), transfer.get(), path);
   }
   write_dataset(comm, bond_group.get(), "/bonds/connectivity", "connectivity", H5T_STD_I64LE,
@@ -331,7 +331,7 @@ void write_hdf5(MPI_Comm comm, const std::string& path, const NodeSlice& nodes,
                 bond_rows, bonds.ids.data(), transfer.get(), path);
   for (const Field& f : bonds.fields) {
     write_dataset(comm, bond_group.get(), "/bonds/" + f.name, f.name, H5T_IEEE_F64LE,
-                  H5T_NATIVE_DOUBLE, f.components == 1 ? bond_rows : with_columns(bond_rows, 3),
+                  H5T_NATIVE_DOUBLE, f.components == 1 ? bond_rows : with_columns(bond_rows, f.components),
                   f.values.data(), transfer.get(), path);
   }
 
@@ -543,7 +543,8 @@ void XdmfText::begin_polylines(const std::string& grid, std::int64_t lines,
 
 void XdmfText::attribute(const XdmfArray& a, const char* center, std::int64_t rows) {
   out_ << "      <Attribute Name=\"" << xml_escape(a.name) << "\" AttributeType=\""
-       << (a.components == 3 ? "Vector" : "Scalar") << "\" Center=\"" << center << "\">\n";
+       << (a.components == 3 ? "Vector" : a.components == 6 ? "Tensor6" : "Scalar")
+       << "\" Center=\"" << center << "\">\n";
   data_item(rows, a.components, a.number_type, a.precision, a.dataset);
   out_ << "      </Attribute>\n";
 }

@@ -1,6 +1,7 @@
 #include "lem/tension_output.hpp"
 
 #include "lem/error.hpp"
+#include "lem/node_stress.hpp"
 
 #include <cmath>
 #include <filesystem>
@@ -61,9 +62,18 @@ void write_tension_fields(const std::string& stem, const DistributedLattice& lat
   Field flags{"dof_flags", 1, {}};
   for (int n = 0; n < lattice.owned; ++n) flags.values.push_back(lattice.dof_flags[n]);
   nodes.fields = {displacement, flags};
+  const auto tension = system.bond_tensions();
+  if (!lattice.node_volume.empty()) {
+    Field stress{"stress", 6, {}}, stress_zz{"stress_zz", 1, {}}, volume{"volume", 1, {}};
+    for (const SymTensor& t : node_stresses(lattice, tension)) {
+      stress.values.insert(stress.values.end(), t.begin(), t.end());
+      stress_zz.values.push_back(t[kZZ]);
+    }
+    volume.values.assign(lattice.node_volume.begin(), lattice.node_volume.begin() + lattice.owned);
+    nodes.fields.insert(nodes.fields.end(), {stress, stress_zz, volume});
+  }
 
   BondSlice bonds;
-  const auto tension = system.bond_tensions();
   Field force{"force", 1, {}}, stiffness{"stiffness", 1, {}}, phase{"phase", 1, {}};
   for (int b = 0; b < lattice.local_bonds(); ++b) {
     if (!lattice.bond_reported[b]) continue;

@@ -12,6 +12,9 @@
 #   most_critical   the other break rule: one bond per cycle, rank-independent
 #   solver_failure  a solve that fails for good writes the last equilibrium
 #                   as a checkpoint and exits 2; the rerun resumes from it
+#   node_stress     shipped tiny sample: the node stresses of elastic.h5 (eq. 1)
+#                   average to the applied stress, agree on 1 and 2 ranks, and
+#                   tools/plot_stress.py draws them and fits the tail exponent
 set -u
 mode="$1"; prog="$2"; work="$3"; shift 3
 mpi=("$@")
@@ -167,6 +170,41 @@ solver_failure)
     fail "resumed run broke $(summary "$work/cut" broken) bonds, the reference $(summary "$work/whole" broken)"
   diff <(sequence "$work/whole") <(sequence "$work/cut") > /dev/null || fail "rupture sequences differ"
   echo "ok: failed solve left a checkpoint; the resumed run breaks the same $(summary "$work/cut" broken) bonds in the same order"
+  ;;
+node_stress)
+  root="$(cd "$(dirname "$0")/../.." && pwd)"
+  # A tight solve: the comparison is of the node stresses, not of the solver.
+  stress_args=(-sample_file "$root/meshes/tiny.h5" -fracture_calibrate 0 -fracture_max_steps 1
+               -ksp_rtol 1e-11)
+  for n in 1 2; do
+    mkdir -p "$work/np$n"
+    "${mpi[@]}" -n "$n" "$prog" "${stress_args[@]}" -output_dir "$work/np$n" > "$work/np$n/log" 2>&1 ||
+      fail "$n-rank run: $(tail -3 "$work/np$n/log")"
+  done
+  $py "$root/tools/plot_stress.py" "$work/np2" > "$work/plot.log" 2>&1 || fail "plot: $(tail -3 "$work/plot.log")"
+  [ -s "$work/np2/stress.png" ] || fail "no stress.png"
+  $py - "$work/np1/elastic.h5" "$work/np2/elastic.h5" "$work/np2/stress.json" <<'EOF' || exit 1
+import json, sys
+import h5py, numpy as np
+def stresses(path):
+    with h5py.File(path, "r") as f:
+        order = np.argsort(f["nodes/id"][:])
+        return f["nodes/stress"][:][order], float(f.attrs["applied_stress"])
+(s1, a1), (s2, a2) = stresses(sys.argv[1]), stresses(sys.argv[2])
+worst = np.abs(s1 - s2).max() / a1
+print(f"1 vs 2 ranks: applied stress {a1:.10e} / {a2:.10e}, node stresses differ by {worst:.1e} of it")
+if abs(a1 / a2 - 1) > 1e-9 or worst > 1e-7:
+    sys.exit("FAIL: node stresses depend on the rank count")
+r = json.load(open(sys.argv[3]))
+gap, beta = r["volume_average_relative_gap"], r["tail"]["beta"]
+print(f"volume average / applied - 1 = {gap:.1e}; tail exponent beta = {beta:.3f}")
+if gap > 1e-6:
+    sys.exit("FAIL: the volume average of the node stresses is not the applied stress")
+# The spread the paper reports (beta 0.7-2.1, fig. 8): the field is far from uniform.
+if not (r["s_max"] > 5 and 0.2 < beta < 5):
+    sys.exit(f"FAIL: implausible stress distribution (max {r['s_max']:.2f}, beta {beta:.2f})")
+EOF
+  echo "ok: node stresses average to the applied stress on 1 and 2 ranks"
   ;;
 *) fail "unknown mode $mode" ;;
 esac

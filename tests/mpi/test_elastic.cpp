@@ -2,7 +2,10 @@
 // assembly against a dense reference, in-place stiffness changes, and the
 // same answer on 1 and 2 ranks.  Runs at 1 and 2 ranks.
 #include "lem/elastic_system.hpp"
+#include "lem/inclusions.hpp"
+#include "lem/node_stress.hpp"
 #include "lem/setup.hpp"
+#include "lem/voronoi.hpp"
 
 #include <gtest/gtest.h>
 
@@ -231,4 +234,76 @@ TEST_F(Elastic, GroundSpringsRemoveHingedClustersWithoutChangingTheModulus) {
   EXPECT_NEAR(e_hinged / e_base, 1.0, 1e-6);
   PetscOptionsSetValue(nullptr, "-lattice_ground_stiffness", "0");
   EXPECT_NEAR(modulus(base) / e_base, 1.0, 1e-6);  // the springs do not show
+}
+
+// Node stresses (paper eq. 1 / C.6).
+namespace {
+
+// Solve a lattice under tension and return its node stresses and response.
+struct StressedLattice {
+  Problem problem;
+  std::vector<SymTensor> stress;
+  TensionResponse response;
+};
+
+StressedLattice stressed(const Lattice& lattice, double displacement) {
+  StressedLattice s;
+  s.problem = make_problem(PETSC_COMM_WORLD, [&] { return lattice; });
+  ElasticSystem system(s.problem.lattice);
+  system.assemble();
+  system.solve(displacement);
+  s.response = system.response();
+  s.stress = node_stresses(s.problem.lattice, system.bond_tensions());
+  return s;
+}
+
+}  // namespace
+
+TEST_F(Elastic, NodeStressesOfHomogeneousFccEqualTheAppliedStress) {
+  // A homogeneous strain is the exact equilibrium of the FCC block, so every
+  // node away from the faces carries the macroscopic stress: sigma_zz = the
+  // applied stress, no lateral or shear stress.
+  Lattice l = make_fcc_lattice({4, 4, 4}, 1.0, 1.0);
+  l.node_volume = voronoi_volumes(l);
+  const StressedLattice s = stressed(l, 1e-3);
+  const DistributedLattice& d = s.problem.lattice;
+  const double applied = s.response.stress_zz, a = 1.0;
+  int interior = 0, interior_total = 0;
+  for (int n = 0; n < d.owned; ++n) {
+    bool inside = true;
+    for (int k = 0; k < 3; ++k)
+      inside = inside && d.coords[n][k] > d.box.lo[k] + 0.6 * a &&
+               d.coords[n][k] < d.box.hi[k] - 0.6 * a;
+    if (!inside) continue;
+    ++interior;
+    EXPECT_NEAR(d.node_volume[n], a * a * a / std::sqrt(2.0), 1e-12);  // rhombic dodecahedron
+    EXPECT_NEAR(s.stress[n][kZZ] / applied, 1.0, 1e-8);
+    for (int k : {kXX, kYY, kXY, kXZ, kYZ}) EXPECT_NEAR(s.stress[n][k] / applied, 0.0, 1e-8);
+  }
+  MPI_Allreduce(&interior, &interior_total, 1, MPI_INT, MPI_SUM, d.comm);
+  EXPECT_GT(interior_total, 50);
+}
+
+TEST_F(Elastic, VolumeAverageOfNodeStressesIsTheAppliedStress) {
+  // Eq. C.5 on a disordered two-phase lattice: the node stresses vary by a
+  // factor of several, but their volume average is the reaction over the
+  // area, and zero laterally (free faces).
+  Lattice l = random_lattice(4000, 17);
+  InclusionSpec spec;
+  spec.volume_fraction = 0.2;
+  spec.radius = 0.12;
+  stiffen_inclusions(l, place_inclusions(l.box, spec), 10.0);
+  l.node_volume = voronoi_volumes(l);
+  const StressedLattice s = stressed(l, 2e-4);
+  const double applied = s.response.stress_zz;
+  const SymTensor mean = volume_average(s.problem.lattice, s.stress);
+  EXPECT_NEAR(mean[kZZ] / applied, 1.0, 1e-8);
+  for (int k : {kXX, kYY, kXY, kXZ, kYZ}) EXPECT_NEAR(mean[k] / applied, 0.0, 1e-8);
+  // ... while single nodes stray far from it (the identity is not trivial).
+  double low = 1e300, high = -1e300;
+  for (const SymTensor& t : s.stress) low = std::min(low, t[kZZ]), high = std::max(high, t[kZZ]);
+  MPI_Allreduce(MPI_IN_PLACE, &low, 1, MPI_DOUBLE, MPI_MIN, PETSC_COMM_WORLD);
+  MPI_Allreduce(MPI_IN_PLACE, &high, 1, MPI_DOUBLE, MPI_MAX, PETSC_COMM_WORLD);
+  EXPECT_GT(high / applied, 2.0);
+  EXPECT_LT(low / applied, 0.5);
 }
