@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 
 static const char help[] =
     "Quasi-static uniaxial tension to complete failure of an elastic-brittle spring lattice\n"
@@ -67,7 +68,7 @@ int main(int argc, char** argv) {
   return lem::run_driver(argc, argv, help, [](MPI_Comm comm) {
     lem::SampleOptions sample = lem::read_sample_options(comm);
     lem::FractureOptions options = lem::read_fracture_options(comm);
-    double break_strain = 1e-3, sigma_unit = 0;
+    double break_strain = 1e-3, sigma_unit = 0, modulus_unit = 0;
     bool calibrate = true, fields = true;
     {
       lem::OptionGroup g(comm, "Fracture run and output");
@@ -80,6 +81,9 @@ int main(int argc, char** argv) {
       sigma_unit = g.real("-fracture_sigma_unit", "Normalise stresses by this value instead "
                           "(E^phase units; e.g. sigma^[p] from an earlier calibration; 0: "
                           "calibrate or use sigma^p)", 0.0, 0.0, 1e12);
+      modulus_unit = g.real("-fracture_modulus_unit", "Normalise moduli by this value instead "
+                            "(E^phase units; e.g. E^[p] from an earlier calibration; 0: "
+                            "calibrate or use E^p)", 0.0, 0.0, 1e12);
       options.output_dir = g.string("-output_dir", "Directory of the results", "results/fracture");
       fields = g.flag("-output_fields", "Write the final displacements and bond states to "
                       "HDF5/XDMF (fields.h5), and those of the first equilibrium with the node "
@@ -93,17 +97,21 @@ int main(int argc, char** argv) {
                              "fracture_", "strength_", "checkpoint_"});
     const bool from_file = !sample.sample_file.empty();
     const auto provenance = lem::collect_provenance(comm, "lem_fracture");
-    lem::prepare_output_dir(comm, options.output_dir,
-                            {"summary.json", "summary.csv", "curve.csv", "broken.csv",
-                             "fields.h5", "fields.xmf", "elastic.h5", "elastic.xmf",
-                             "fracture.png", "stress.png"});
+    // A run that will resume keeps the first-equilibrium fields written
+    // before its checkpoint (the checkpoint proves they belong to it).
+    std::vector<std::string> stale = {"summary.json", "summary.csv", "curve.csv", "broken.csv",
+                                      "fields.h5", "fields.xmf", "fracture.png", "stress.png",
+                                      "stress.json"};
+    if (!(options.resume && std::filesystem::exists(options.output_dir + "/checkpoint.bin")))
+      stale.insert(stale.end(), {"elastic.h5", "elastic.xmf"});
+    lem::prepare_output_dir(comm, options.output_dir, stale);
 
     // Every option has been read once the first solve is done: a misspelt
     // one stops the run there, not hours later.
     options.after_first_solve = [] { lem::check_unused_options(); };
     const double e_p = sample.phases.modulus[0], s_p = sample.phases.strength[0];
     double sigma_hom = 0, e_hom = 0;
-    if (from_file && calibrate && sigma_unit == 0) {
+    if (from_file && calibrate && sigma_unit == 0 && modulus_unit == 0) {
       lem::SampleOptions hom = sample;
       hom.homogeneous = true;
       lem::FractureOptions hom_options = options;
@@ -112,6 +120,7 @@ int main(int argc, char** argv) {
       // Only the peak is needed: stop once well past it.
       hom_options.stop_fraction = std::max(options.stop_fraction, 0.5);
       hom_options.stop_within_step = true;
+      hom_options.max_steps = lem::FractureOptions{}.max_steps;  // -fracture_max_steps: the sample's
       hom_options.checkpoint_seconds = 0;
       hom_options.snapshot_steps = 0;
       hom_options.elastic_fields = false;
@@ -125,7 +134,8 @@ int main(int argc, char** argv) {
     }
     options.strength_unit = sigma_unit > 0 ? sigma_unit : sigma_hom > 0 ? sigma_hom
                                                       : from_file ? s_p : 1.0;
-    options.modulus_unit = e_hom > 0 ? e_hom : from_file ? e_p : 1.0;
+    options.modulus_unit = modulus_unit > 0 ? modulus_unit : e_hom > 0 ? e_hom
+                                                      : from_file ? e_p : 1.0;
     const Case c = run_case(comm, sample, break_strain, options, provenance, fields);
 
     const lem::FractureResult& r = c.result;

@@ -1,0 +1,34 @@
+#!/bin/bash
+# Submit a whole parametric study to Slurm as four dependent jobs:
+#   samples (array over rho^m) -> calibration -> runs (array over the grid,
+#   each task one mpirun of lem_fracture, requeued from its checkpoint when
+#   the time limit comes) -> gather (table and figures, also after failures).
+# Usage: submit-study.sh STUDY.yaml OUT_DIR [sbatch options for the runs...]
+#   e.g. submit-study.sh jobs/studies/paper.yaml results/paper --time=02:00:00 -p compute
+# Runs already complete are skipped, so resubmitting finishes a study.
+# Prints the job ids; `tools/study.py status STUDY OUT_DIR` tells what is done.
+set -euo pipefail
+[ $# -ge 2 ] || { echo "usage: submit-study.sh STUDY.yaml OUT_DIR [sbatch options...]" >&2; exit 1; }
+study="$(realpath "$1")"; out="$(realpath -m "$2")"; shift 2
+root="$(cd "$(dirname "$0")/../.." && pwd)"
+task="$root/jobs/slurm/study-task.sh"
+py=/usr/bin/python3
+# Checks the study file and the output folder before anything is queued.
+$py "$root/tools/study.py" plan "$study" "$out"
+count() { $py -c "import sys; sys.path.insert(0, '$root/tools'); import study; s = study.Study('$study', '$out'); print($1)"; }
+samples=$(count "len(s.spec['matrix_fractions'])")
+runs=$(count "len(s.runs())")
+ranks=$(count "s.spec['ranks']")
+mkdir -p "$out/slurm"
+common=(--parsable --chdir="$out/slurm" --export=ALL,LEM_ROOT="$root")
+j1=$(sbatch "${common[@]}" --job-name=lem-samples --array=0-$((samples - 1)) --ntasks=1 \
+       "$task" samples "$study" "$out")
+j2=$(sbatch "${common[@]}" --output=%x-%j.out --job-name=lem-calibrate --dependency=afterok:"$j1" --ntasks="$ranks" \
+       "$task" calibrate "$study" "$out")
+j3=$(sbatch "${common[@]}" --job-name=lem-runs --dependency=afterok:"$j2" --array=0-$((runs - 1)) \
+       --ntasks="$ranks" --requeue --open-mode=append --signal=B:USR1@120 "$@" "$task" run "$study" "$out")
+j4=$(sbatch "${common[@]}" --output=%x-%j.out --job-name=lem-gather --dependency=afterany:"$j3" --ntasks=1 \
+       "$task" gather "$study" "$out")
+echo "submitted: samples $j1, calibration $j2, runs $j3 ($runs tasks), gather $j4"
+echo "$j1 $j2 $j3 $j4" > "$out/slurm/job-ids"
+echo "logs in $out/slurm/ (job ids in job-ids)"

@@ -1,0 +1,10 @@
+#!/bin/bash
+# A parametric study on this machine, one run after the other (the plain
+# mpirun path; jobs/slurm/submit-study.sh is the cluster path).  Rerunning
+# skips complete runs and resumes interrupted ones from their checkpoints.
+# Usage: jobs/study-local.sh STUDY.yaml OUT_DIR [--ranks N]
+set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+[ $# -ge 2 ] || { echo "usage: study-local.sh STUDY.yaml OUT_DIR [--ranks N]" >&2; exit 1; }
+bash "$root/jobs/build.sh"
+exec /usr/bin/python3 "$root/tools/study.py" all "$@"
