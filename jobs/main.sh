@@ -1,9 +1,9 @@
 #!/bin/bash
-# The main job: quasi-static tension to failure of the shipped cemented
-# sample meshes/tiny.h5 on 2 ranks (paper sect. 2.3): calibrates sigma^[p]
+# The main job: quasi-static tension to complete failure of the shipped cemented
+# sample meshes/mini.h5 on 2 ranks (paper sect. 2.3): calibrates sigma^[p]
 # and E^[p] on the homogeneous lattice, breaks the sample, prints E_eff and
 # sigma_eff, and writes results/main/{summary.json,summary.csv,curve.csv,
-# broken.csv,fields.h5,fields.xmf,fracture.png}.
+# broken.csv,fields.h5,fields.xmf,elastic.h5,elastic.xmf,fracture.png,stress.png}.
 # Extra arguments are passed to lem_fracture (PETSc options).
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
@@ -15,3 +15,4 @@ for ((i = 1; i <= $#; ++i)); do
   [ "${!i}" = "-output_dir" ] && { j=$((i + 1)); dir="${!j}"; }
 done
 /usr/bin/python3 tools/plot_fracture.py "$dir"
+/usr/bin/python3 tools/plot_stress.py "$dir"

@@ -147,7 +147,8 @@ def main():
     ax_pdf.set_title("(b) pdf of the vertical node stresses (%d loaded nodes)" % loaded.sum())
     ax_pdf.legend()
     fig.suptitle(r"%s: first equilibrium, $\varepsilon_{zz}$ = %.2e; volume average of "
-                 r"$\sigma_{zz}^i$ / applied = %.8f" % (out, d["strain"], mean_zz / d["applied"]))
+                 r"$\sigma_{zz}^i$ / applied = %.8f" % (os.path.basename(os.path.abspath(out)), d["strain"],
+                                                        mean_zz / d["applied"]))
     fig.tight_layout()
     tmp = os.path.join(out, ".stress.png.part")
     fig.savefig(tmp, dpi=110, format="png")

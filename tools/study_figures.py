@@ -87,7 +87,6 @@ def fit_scaling(rows):
     from scipy.optimize import curve_fit
     rho = np.array([r["rho_m"] for r in rows])
     y = np.array([r["sigma_eff_over_sigma_pm"] for r in rows])
-    g = rho * (2 * RHO_FILLED - rho)
     if len(set(rho)) < 2:
         return None
 
@@ -100,8 +99,7 @@ def fit_scaling(rows):
     residual = y - model(rho, a, k)
     return {"A": float(a), "k": float(k), "rho_filled": RHO_FILLED,
             "rms_relative_residual": float(np.sqrt(np.mean((residual / y) ** 2))),
-            "points": int(len(rows)), "x_of": "rho (2 rho_f - rho) / (1 - k rho)",
-            "g_range": [float(g.min()), float(g.max())]}
+            "points": int(len(rows))}
 
 
 def by_rho(rows):

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
+#include <deque>
 #include <csignal>
 #include <cstdio>
 #include <cstring>
@@ -423,6 +424,10 @@ class Protocol {
   double force_floor_ = 0;  // 1e-6 of the mean positive threshold
   std::int64_t last_snapshot_ = 0;  // step of the previous visit
   double start_ = 0, last_checkpoint_time_ = 0, last_progress_ = 0;
+  struct ProgressPoint {
+    double seconds, stress, strain;
+  };
+  std::deque<ProgressPoint> recent_;  // after the peak, for the time-left estimate
 };
 
 std::string Protocol::make_fingerprint() const {
@@ -872,13 +877,29 @@ void Protocol::progress(std::int64_t step, double stress, std::int64_t new_break
   const double elapsed = c_.seconds_before + now - start_;
   std::int64_t broken = 0;
   for (auto b : c_.broken) broken += b;
-  // After the peak the stress decays towards the stop level: extrapolate the
-  // mean decay per second since the peak.
+  // After the peak: extrapolate the recent rates (over the last quarter of
+  // the time since the peak, the tail slows down) to whichever end comes
+  // first, the stop level of the stress or the strain bound.
   std::string estimate = "before the peak";
   const double target = o_.stop_fraction * c_.peak_stress;
-  if (stress < c_.peak_stress && c_.peak_stress > 0 && stress > target) {
-    const double rate = (c_.peak_stress - stress) / std::max(1e-9, elapsed);
-    estimate = "~" + std::to_string(static_cast<long long>((stress - target) / rate)) + " s left";
+  const double strain = strain_of(step);
+  if (stress >= c_.peak_stress || c_.peak_stress <= 0) {
+    recent_.clear();
+  } else {
+    recent_.push_back({elapsed, stress, strain});
+    const double since = std::max(10.0, 0.25 * (elapsed - recent_.front().seconds));
+    while (recent_.size() > 2 && elapsed - recent_[1].seconds > since) recent_.pop_front();
+    const ProgressPoint& old = recent_.front();
+    const double dt = elapsed - old.seconds;
+    double left = -1;
+    if (dt > 0 && old.stress > stress) left = (stress - target) / ((old.stress - stress) / dt);
+    if (dt > 0 && o_.max_strain_ratio > 0 && strain > old.strain) {
+      const double to_bound = (o_.max_strain_ratio * c_.strain_at_peak - strain) /
+                              ((strain - old.strain) / dt);
+      left = left < 0 ? to_bound : std::min(left, to_bound);
+    }
+    estimate = left < 0 ? "after the peak" : "~" + std::to_string(static_cast<long long>(
+                                                       std::max(0.0, left))) + " s left";
   }
   say("step %7lld  eps %.4e  sigma/sigma_u %.4f (peak %.4f)  broken %lld (+%lld in %d cycles)  "
       "loose nodes %lld  solves %lld  its %lld  PC builds %lld  %.1f s  %s\n",
