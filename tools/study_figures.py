@@ -32,8 +32,9 @@ RHO_FILLED = 0.28        # rho_f^m of eqs. 6-10 (paper: pores filled at 0.28)
 K_WEAKEST_LINK = 0.4     # eq. 13 frontier of fig. 15
 K_DAMAGE_LIMIT = 0.7     # eq. 14 frontier of fig. 15
 COLUMNS = ("id", "rho_m", "sigma_pm_ratio", "E_eff_over_E_unit", "sigma_eff_over_sigma_unit",
-           "sigma_eff_over_sigma_pm", "strain_at_peak", "n_b", "broken", "broken_p", "broken_m", "broken_pp", "broken_pm",
-           "K_c_r_eq13", "K_c_r_eq14", "beta", "end_reason", "solves", "seconds")
+           "sigma_eff_over_sigma_pm", "strain_at_peak", "n_b", "n_b_without_bare_contacts",
+           "broken", "broken_p", "broken_m", "broken_pp", "broken_pm", "K_c_r_eq13",
+           "K_c_r_eq14", "beta", "end_reason", "solves", "seconds")
 
 
 def read_json(path):
@@ -69,7 +70,11 @@ def collect(study):
                    sigma_eff_over_sigma_unit=s["sigma_eff_over_sigma_unit"],
                    # eq. 10's left side: both stresses in the units of the phase table.
                    sigma_eff_over_sigma_pm=s["sigma_eff"] / (run["sigma_pm_ratio"] * ph["sigma_p"]),
-                   strain_at_peak=s["strain_at_peak"], n_b=s["n_b"], broken=s["broken"],
+                   strain_at_peak=s["strain_at_peak"], n_b=s["n_b"],
+                   # n_b counts the bare contacts that open at the first step (the
+                   # paper's definition); this share leaves them out.
+                   n_b_without_bare_contacts=s["broken_p"] / max(1, s["broken"] - s["broken_pp"]),
+                   broken=s["broken"],
                    broken_p=s["broken_p"], broken_m=s["broken_m"], broken_pp=s["broken_pp"],
                    broken_pm=s["broken_pm"],
                    # eq. 13: weakest link; eq. 14: reference medium E_eff.
