@@ -462,20 +462,37 @@ bool Protocol::try_resume() {
   MPI_Bcast(&exists, 1, MPI_INT, 0, l_.comm);
   if (!exists || !o_.resume) return false;
   Checkpoint c;
+  int other_ranks = 0;  // rank count of a checkpoint written by another one
   run_on_root(l_.comm, [&] {
     c = read_checkpoint_file(checkpoint_path_);
-    if (c.fingerprint != fingerprint_) {
-      // Name what differs.
-      std::istringstream a(c.fingerprint), b(fingerprint_);
-      std::string differs;
-      for (std::string x, y; std::getline(a, x) && std::getline(b, y);)
-        if (x != y) differs += "\n  checkpoint: " + x + "   this run: " + y;
-      if (differs.empty()) differs = "\n  (a different option set)";
-      throw InputError("the checkpoint '" + checkpoint_path_ + "' belongs to a different run "
-                       "(sample, options or rank count):" + differs + "\nresume with the same "
-                       "command and rank count, or pass -checkpoint_resume false to start over");
+    // Name what differs.  The rank count may differ: everything in the
+    // checkpoint is by lattice id, so another partition can take it over.
+    auto lines = [](const std::string& text) {
+      std::vector<std::string> out;
+      std::istringstream in(text);
+      for (std::string line; std::getline(in, line);) out.push_back(line);
+      return out;
+    };
+    const auto theirs = lines(c.fingerprint), ours = lines(fingerprint_);
+    std::string differs;
+    if (theirs.size() != ours.size()) differs = "\n  (a different option set)";
+    for (std::size_t i = 0; differs.empty() && i < ours.size(); ++i) {
+      if (theirs[i] == ours[i]) continue;
+      if (theirs[i].rfind("ranks=", 0) == 0 && ours[i].rfind("ranks=", 0) == 0)
+        other_ranks = std::stoi(theirs[i].substr(6));
+      else
+        differs += "\n  checkpoint: " + theirs[i] + "   this run: " + ours[i];
     }
+    if (!differs.empty())
+      throw InputError("the checkpoint '" + checkpoint_path_ + "' belongs to a different run "
+                       "(sample or options):" + differs + "\nresume with the same command, or "
+                       "pass -checkpoint_resume false to start over");
   });
+  MPI_Bcast(&other_ranks, 1, MPI_INT, 0, l_.comm);
+  if (other_ranks > 0)
+    say("resuming a checkpoint written on %d ranks on %d: the preconditioner differs, so the "
+        "rest of the run agrees with an uninterrupted one to the solver tolerance, not bit for "
+        "bit\n", other_ranks, ranks_);
   // Share it: counters, events, displacements.
   MPI_Bcast(&c.counters, sizeof(Counters), MPI_BYTE, 0, l_.comm);
   auto share = [&](auto& v) {

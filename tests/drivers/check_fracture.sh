@@ -7,8 +7,10 @@
 #   restart_kill    kill -9 after a checkpoint; the rerun resumes and its curve
 #                   and log equal those of an uninterrupted run, byte for byte
 #   restart_signal  SIGUSR1 writes a checkpoint and exits 4; the rerun resumes
-#   bad_checkpoint  a checkpoint of other options, another rank count or a
-#                   corrupt file is refused with a named error
+#   bad_checkpoint  a checkpoint of other options or a corrupt file is
+#                   refused with a named error
+#   restart_ranks   a 2-rank run stopped by SIGUSR1 resumes on 1 rank: same
+#                   ruptures, curve within 1e-7 of the peak
 #   most_critical   the other break rule: one bond per cycle, rank-independent
 #   solver_failure  a solve that fails for good writes the last equilibrium
 #                   as a checkpoint and exits 2; the rerun resumes from it
@@ -28,6 +30,14 @@ run() {  # run RANKS DIR [extra args]: the driver, output in DIR/log
   "${mpi[@]}" -n "$n" "$prog" "${case_args[@]}" -output_dir "$dir" "$@" > "$dir/log" 2>&1
 }
 sequence() { cut -d, -f1,2,4 "$1/broken.csv"; }   # step, cycle, bond id
+wait_for_checkpoint() {  # DIR: until a checkpoint with some ruptures behind it exists
+  for _ in $(seq 1 600); do
+    [ -s "$1/checkpoint.bin" ] && [ "$(wc -l < "$1/broken.csv.part" 2>/dev/null || echo 0)" -gt 15 ] &&
+      return 0
+    sleep 0.05
+  done
+  return 1
+}
 rm -rf "$work"; mkdir -p "$work"
 
 compare_curves() {  # compare_curves A B TOL: rows of A's steps found in B agree
@@ -85,13 +95,7 @@ restart_kill|restart_signal)
   setsid "${mpi[@]}" -n 2 "$prog" "${case_args[@]}" -output_dir "$work/cut" "${args[@]}" \
     > "$work/cut/log1" 2>&1 &
   leader=$!
-  # Wait for a checkpoint with some ruptures behind it, then interrupt.
-  for _ in $(seq 1 600); do
-    if [ -s "$work/cut/checkpoint.bin" ] && [ "$(wc -l < "$work/cut/broken.csv.part" 2>/dev/null || echo 0)" -gt 15 ]; then
-      break
-    fi
-    sleep 0.05
-  done
+  wait_for_checkpoint "$work/cut"
   [ -s "$work/cut/checkpoint.bin" ] || { kill -9 -- -"$leader"; fail "no checkpoint appeared"; }
   if [ "$mode" = restart_kill ]; then
     # Every process of the run, as a batch system would (ranks may sit in
@@ -136,7 +140,8 @@ bad_checkpoint)
   }
   expect "checkpoint: increment=" 2 -fracture_increment 2e-4
   cp "$work/good.bin" "$work/cut/checkpoint.bin"
-  expect "checkpoint: ranks=2 +this run: ranks=1" 1
+  expect "checkpoint: break_rule=all +this run: break_rule=most_critical" 2 \
+    -fracture_break_rule most_critical
   head -c 200 "$work/good.bin" > "$work/cut/checkpoint.bin"
   expect "not a valid lem checkpoint" 2
   ;;
@@ -205,6 +210,25 @@ if not (r["s_max"] > 5 and 0.2 < beta < 5):
     sys.exit(f"FAIL: implausible stress distribution (max {r['s_max']:.2f}, beta {beta:.2f})")
 EOF
   echo "ok: node stresses average to the applied stress on 1 and 2 ranks"
+  ;;
+restart_ranks)
+  args=(-checkpoint_steps 4 -checkpoint_seconds 0)
+  run 2 "$work/whole" "${args[@]}" || fail "uninterrupted run: $(tail -3 "$work/whole/log")"
+  mkdir -p "$work/cut"
+  "${mpi[@]}" -n 2 "$prog" "${case_args[@]}" -output_dir "$work/cut" "${args[@]}" \
+    > "$work/cut/log1" 2>&1 &
+  leader=$!
+  wait_for_checkpoint "$work/cut"
+  kill -USR1 "$leader"; wait "$leader"
+  [ -s "$work/cut/checkpoint.bin" ] || fail "no checkpoint appeared"
+  run 1 "$work/cut" "${args[@]}" || fail "resumed run on 1 rank: $(tail -3 "$work/cut/log")"
+  grep -q "^resuming a checkpoint written on 2 ranks on 1" "$work/cut/log" ||
+    fail "no note of the other rank count: $(head -3 "$work/cut/log")"
+  grep -q "^resumed from" "$work/cut/log" || fail "the rerun did not resume"
+  diff <(sequence "$work/whole") <(sequence "$work/cut") > /dev/null ||
+    fail "the run resumed on 1 rank breaks other bonds"
+  compare_curves "$work/cut" "$work/whole" 1e-7
+  echo "ok: $(grep '^resumed' "$work/cut/log") on 1 rank; the same $(summary "$work/cut" broken) ruptures"
   ;;
 *) fail "unknown mode $mode" ;;
 esac
