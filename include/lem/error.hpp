@@ -39,6 +39,13 @@ class Interrupted : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// -help was given: the options have been listed (as they were read) and the
+/// driver stops before doing any work, with exit status 0.
+class HelpShown : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 #define LEM_PETSC(call)                                          \
   do {                                                           \
     PetscErrorCode lem_ierr_ = (call);                           \

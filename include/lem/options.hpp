@@ -51,7 +51,9 @@ void check_unused_options();
 
 /// Early check, callable before any solver exists: options that nothing can
 /// consume (not ours, not a PETSc prefix) are reported immediately, so a typo
-/// such as -lattice_node does not cost a long run.
+/// such as -lattice_node does not cost a long run.  With -help it throws
+/// HelpShown: every driver calls it once its options are read, so -help lists
+/// them and stops there.
 void check_option_names(const std::vector<std::string>& own_prefixes);
 
 /// The whole options database as "-name value" lines (provenance).

@@ -31,6 +31,8 @@ int run_driver(int argc, char** argv, const char* help,
   };
   try {
     body(PETSC_COMM_WORLD);
+  } catch (const HelpShown& e) {
+    if (rank == 0) std::printf("\n%s\n", e.what());
   } catch (const InputError& e) {
     report("error", e.what());
     status = 1;

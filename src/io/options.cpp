@@ -163,6 +163,11 @@ void check_option_names(const std::vector<std::string>& own_prefixes) {
   }
   if (!unknown.empty())
     throw InputError("unknown option(s):" + unknown + " (run with -help to list the options)");
+  PetscBool help = PETSC_FALSE;
+  LEM_PETSC(PetscOptionsHasHelp(nullptr, &help));
+  if (help)
+    throw HelpShown("-help: these are the program's options; the solver takes PETSc's standard "
+                    "-ksp_*, -pc_* and -mat_* options (docs/user-guide.md). Nothing was run.");
 }
 
 void check_unused_options() {
