@@ -120,7 +120,8 @@ int main(int argc, char** argv) {
       // Only the peak is needed: stop once well past it.
       hom_options.stop_fraction = std::max(options.stop_fraction, 0.5);
       hom_options.stop_within_step = true;
-      hom_options.max_steps = lem::FractureOptions{}.max_steps;  // -fracture_max_steps: the sample's
+      // -fracture_max_steps bounds the sample run, not its calibration.
+      hom_options.max_steps = lem::FractureOptions{}.max_steps;
       hom_options.checkpoint_seconds = 0;
       hom_options.snapshot_steps = 0;
       hom_options.elastic_fields = false;

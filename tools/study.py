@@ -367,7 +367,9 @@ def main(argv):
         try:
             study.spec["ranks"] = int(opts["--ranks"])
         except ValueError:
-            raise StudyError("--ranks %s is not an integer" % opts["--ranks"])
+            study.spec["ranks"] = 0
+        if study.spec["ranks"] < 1:
+            raise StudyError("--ranks %s is not a positive integer" % opts["--ranks"])
     index = None
     if opts["--index"] is not None:
         try:

@@ -3,9 +3,11 @@
 
 #include "lem/elastic_system.hpp"
 #include "lem/hdf5_writer.hpp"
+#include "lem/node_stress.hpp"
 #include "lem/setup.hpp"
 #include "lem/summary.hpp"
 
+#include <optional>
 #include <string>
 
 namespace lem {
@@ -18,10 +20,14 @@ Summary tension_summary(const SetupReport& setup, const DistributedLattice& latt
 
 /// <stem>.h5 / <stem>.xmf: displacements, bond forces and stiffnesses, and
 /// when the lattice has Voronoi volumes (sample files) the node stresses
-/// (`stress`, Tensor6; `stress_zz`) and the volumes.
-void write_tension_fields(const std::string& stem, const DistributedLattice& lattice,
-                          const ElasticSystem& system, const Provenance& provenance,
-                          const Summary& summary);
+/// (`stress`, Tensor6; `stress_zz`) and the volumes; it then returns their
+/// volume average (also stored as the attribute mean_node_stress_zz).
+/// Collective.
+std::optional<SymTensor> write_tension_fields(const std::string& stem,
+                                              const DistributedLattice& lattice,
+                                              const ElasticSystem& system,
+                                              const Provenance& provenance,
+                                              const Summary& summary);
 
 /// Create `dir` (rank 0) and remove results of an earlier run in it, so that
 /// a failed run cannot leave an older summary looking like its own.

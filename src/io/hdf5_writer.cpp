@@ -321,7 +321,8 @@ void write_hdf5(MPI_Comm comm, const std::string& path, const NodeSlice& nodes,
                 node_rows, nodes.ids.data(), transfer.get(), path);
   for (const Field& f : nodes.fields) {
     write_dataset(comm, node_group.get(), "/nodes/" + f.name, f.name, H5T_IEEE_F64LE,
-                  H5T_NATIVE_DOUBLE, f.components == 1 ? node_rows : with_columns(node_rows, f.components),
+                  H5T_NATIVE_DOUBLE,
+                  f.components == 1 ? node_rows : with_columns(node_rows, f.components),
                   f.values.data(), transfer.get(), path);
   }
   write_dataset(comm, bond_group.get(), "/bonds/connectivity", "connectivity", H5T_STD_I64LE,
@@ -331,7 +332,8 @@ void write_hdf5(MPI_Comm comm, const std::string& path, const NodeSlice& nodes,
                 bond_rows, bonds.ids.data(), transfer.get(), path);
   for (const Field& f : bonds.fields) {
     write_dataset(comm, bond_group.get(), "/bonds/" + f.name, f.name, H5T_IEEE_F64LE,
-                  H5T_NATIVE_DOUBLE, f.components == 1 ? bond_rows : with_columns(bond_rows, f.components),
+                  H5T_NATIVE_DOUBLE,
+                  f.components == 1 ? bond_rows : with_columns(bond_rows, f.components),
                   f.values.data(), transfer.get(), path);
   }
 

@@ -22,7 +22,8 @@ const char* const kPetscPrefixes[] = {
     "history", "viewer", "fp_trap", "no_signal_handler", "check_pointer", "memory_view",
     "objects_dump", "skip_petscrc", "start_in_debugger", "debugger", "stop_for_debugger",
     "display", "use_gpu_aware_mpi", "citations", "version", "petsc", "sys", "draw", "nox",
-    "mg_", "sub_", "redundant_", "telescope_", "is_", "sf_", "error_output", "saws", "python", "get_total_flops", "checkstack"};
+    "mg_", "sub_", "redundant_", "telescope_", "is_", "sf_", "error_output", "saws", "python",
+    "get_total_flops", "checkstack"};
 
 bool has_prefix(const std::string& s, const std::string& p) { return s.rfind(p, 0) == 0; }
 

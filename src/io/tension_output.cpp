@@ -1,7 +1,6 @@
 #include "lem/tension_output.hpp"
 
 #include "lem/error.hpp"
-#include "lem/node_stress.hpp"
 
 #include <cmath>
 #include <filesystem>
@@ -50,9 +49,10 @@ Summary tension_summary(const SetupReport& setup, const DistributedLattice& latt
   return sum;
 }
 
-void write_tension_fields(const std::string& stem, const DistributedLattice& lattice,
-                          const ElasticSystem& system, const Provenance& provenance,
-                          const Summary& summary) {
+std::optional<SymTensor> write_tension_fields(const std::string& stem, const DistributedLattice& lattice,
+                                              const ElasticSystem& system,
+                                              const Provenance& provenance,
+                                              const Summary& summary) {
   NodeSlice nodes;
   nodes.coords.assign(lattice.coords.begin(), lattice.coords.begin() + lattice.owned);
   nodes.ids.assign(lattice.node_id.begin(), lattice.node_id.begin() + lattice.owned);
@@ -63,14 +63,20 @@ void write_tension_fields(const std::string& stem, const DistributedLattice& lat
   for (int n = 0; n < lattice.owned; ++n) flags.values.push_back(lattice.dof_flags[n]);
   nodes.fields = {displacement, flags};
   const auto tension = system.bond_tensions();
+  auto scalars = summary.numbers();
+  std::optional<SymTensor> mean;
   if (!lattice.node_volume.empty()) {
+    const std::vector<SymTensor> node_stress = node_stresses(lattice, tension);
     Field stress{"stress", 6, {}}, stress_zz{"stress_zz", 1, {}}, volume{"volume", 1, {}};
-    for (const SymTensor& t : node_stresses(lattice, tension)) {
+    for (const SymTensor& t : node_stress) {
       stress.values.insert(stress.values.end(), t.begin(), t.end());
       stress_zz.values.push_back(t[kZZ]);
     }
     volume.values.assign(lattice.node_volume.begin(), lattice.node_volume.begin() + lattice.owned);
     nodes.fields.insert(nodes.fields.end(), {stress, stress_zz, volume});
+    // The identity of appendix C (= the applied stress at equilibrium).
+    mean = volume_average(lattice, node_stress);
+    scalars.emplace_back("mean_node_stress_zz", (*mean)[kZZ]);
   }
 
   BondSlice bonds;
@@ -87,7 +93,8 @@ void write_tension_fields(const std::string& stem, const DistributedLattice& lat
   // Broken (or detached) bonds keep their place with stiffness 0.
   bonds.fields = {force, stiffness};
   if (!lattice.bond_tag.empty()) bonds.fields.push_back(phase);
-  write_lattice_fields(lattice.comm, stem, nodes, bonds, provenance, summary.numbers());
+  write_lattice_fields(lattice.comm, stem, nodes, bonds, provenance, scalars);
+  return mean;
 }
 
 void prepare_output_dir(MPI_Comm comm, const std::string& dir,

@@ -3,17 +3,16 @@
 #include "lem/driver.hpp"
 #include "lem/error.hpp"
 #include "lem/options.hpp"
-#include "lem/node_stress.hpp"
 #include "lem/pieces.hpp"
 #include "lem/tension_output.hpp"
 
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
-#include <deque>
 #include <csignal>
 #include <cstdio>
 #include <cstring>
+#include <deque>
 #include <fcntl.h>
 #include <filesystem>
 #include <limits>
@@ -428,6 +427,7 @@ class Protocol {
     double seconds, stress, strain;
   };
   std::deque<ProgressPoint> recent_;  // after the peak, for the time-left estimate
+  double tail_start_ = 0;             // time of the first progress line after the peak
 };
 
 std::string Protocol::make_fingerprint() const {
@@ -851,14 +851,11 @@ void Protocol::write_elastic_fields() const {
   s.add("strain", r.strain_zz);
   s.add("applied_stress", r.stress_zz);
   s.add("stress_norm", r.stress_zz * o_.stress_unit / o_.strength_unit);
-  if (!l_.node_volume.empty()) {
-    const SymTensor mean = volume_average(l_, node_stresses(l_, system_.bond_tensions()));
-    s.add("mean_node_stress_zz", mean[kZZ]);
+  const auto mean = write_tension_fields(o_.output_dir + "/elastic", l_, system_, provenance_, s);
+  if (mean)
     say("node stresses at the first equilibrium: volume average of sigma_zz = %.10g, applied "
         "%.10g (relative gap %.1e)\n",
-        mean[kZZ], r.stress_zz, std::fabs(mean[kZZ] / r.stress_zz - 1));
-  }
-  write_tension_fields(o_.output_dir + "/elastic", l_, system_, provenance_, s);
+        (*mean)[kZZ], r.stress_zz, std::fabs((*mean)[kZZ] / r.stress_zz - 1));
 }
 
 void Protocol::check_first_increment() const {
@@ -903,8 +900,9 @@ void Protocol::progress(std::int64_t step, double stress, std::int64_t new_break
   if (stress >= c_.peak_stress || c_.peak_stress <= 0) {
     recent_.clear();
   } else {
+    if (recent_.empty()) tail_start_ = elapsed;
     recent_.push_back({elapsed, stress, strain});
-    const double since = std::max(10.0, 0.25 * (elapsed - recent_.front().seconds));
+    const double since = std::max(10.0, 0.25 * (elapsed - tail_start_));
     while (recent_.size() > 2 && elapsed - recent_[1].seconds > since) recent_.pop_front();
     const ProgressPoint& old = recent_.front();
     const double dt = elapsed - old.seconds;

@@ -26,6 +26,8 @@ expect_error "the grid is empty" "${study[@]}" plan "$work/empty.yaml" "$work/a"
 sed 's/^matrix_fractions: .*/matrix_fractions: [0.9]/' <<< "$base" > "$work/range.yaml"
 expect_error "matrix_fractions value 0.9 outside" "${study[@]}" plan "$work/range.yaml" "$work/a"
 expect_error "cannot read the study file" "${study[@]}" plan "$work/missing.yaml" "$work/a"
+printf '%s\n' "$base" > "$work/ok.yaml"
+expect_error "ranks 0 is not a positive integer" "${study[@]}" plan "$work/ok.yaml" "$work/a" --ranks 0
 
 # A run that fails: lem_fracture crashes in the runs (not in the calibration).
 mkdir -p "$work/bin"
