@@ -106,9 +106,6 @@ int main(int argc, char** argv) {
       stale.insert(stale.end(), {"elastic.h5", "elastic.xmf"});
     lem::prepare_output_dir(comm, options.output_dir, stale);
 
-    // Every option has been read once the first solve is done: a misspelt
-    // one stops the run there, not hours later.
-    options.after_first_solve = [] { lem::check_unused_options(); };
     const double e_p = sample.phases.modulus[0], s_p = sample.phases.strength[0];
     double sigma_hom = 0, e_hom = 0;
     if (from_file && calibrate && sigma_unit == 0 && modulus_unit == 0) {
@@ -146,7 +143,7 @@ int main(int argc, char** argv) {
     s.add("nodes", static_cast<long long>(c.setup.sample.stats.nodes));
     s.add("active_bonds", static_cast<long long>(c.setup.active_bonds));
     s.add("increment_over_a", options.increment);
-    s.add("break_rule", std::string(options.break_all ? "all" : "most_critical"));
+    s.add("break_rule", std::string(lem::name_of(options.break_rule)));
     s.add("sigma_unit", options.strength_unit, "stress");
     s.add("E_unit", options.modulus_unit, "stress");
     s.add("sigma_hom", sigma_hom, "stress");

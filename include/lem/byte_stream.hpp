@@ -1,7 +1,8 @@
 // One binary serialiser for the ground floor (checkpoints, replicated
 // records): trivially copyable values and vectors of them, with a length
 // prefix, and a 64-bit FNV-1a checksum over the bytes.  Reading past the end
-// or a length that cannot fit throws std::runtime_error.
+// or a length that cannot fit throws std::runtime_error.  Also the hashes
+// that go with them.
 #pragma once
 
 #include <algorithm>
@@ -19,6 +20,15 @@ inline std::uint64_t fnv1a(const char* data, std::size_t n,
   for (std::size_t i = 0; i < n; ++i)
     h = (h ^ static_cast<unsigned char>(data[i])) * 1099511628211ULL;
   return h;
+}
+
+/// splitmix64's finaliser: a well-mixed 64-bit hash of one word (seeded
+/// per-bond random numbers, order-free checksums).
+inline std::uint64_t mix64(std::uint64_t x) {
+  x += 0x9e3779b97f4a7c15ULL;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
+  return x ^ (x >> 31);
 }
 
 class ByteWriter {

@@ -1,0 +1,63 @@
+// The break rule (paper sect. 2.1, appendix A): which bonds are critical in
+// the current field, and at which load step the next one will be.
+//
+// A bond is critical when its tension exceeds its threshold strictly and
+// exceeds the force floor (1e-6 of the mean positive threshold): below the
+// floor a force is solver noise, so bonds of zero threshold (bare contacts)
+// break only on a real tension.  Bonds never break in compression.
+#pragma once
+
+#include "lem/distributed_lattice.hpp"
+#include "lem/fracture/options.hpp"
+
+#include <cstdint>
+#include <vector>
+
+namespace lem {
+
+struct Rupture {
+  std::int64_t id;   // global bond id
+  double ratio;      // force / threshold (infinite for a zero threshold)
+  double force, threshold;
+  double x, y, z;    // bond midpoint
+  std::int32_t phase, pad;
+};
+
+/// t > f and t > floor.
+bool is_critical(double tension, double threshold, double force_floor);
+/// Larger ratio first, then smaller id: one order on every rank count.
+bool more_critical(const Rupture& a, const Rupture& b);
+/// The system is linear between ruptures: a bond with tension t at step n
+/// (t > 0) first exceeds max(f, floor) at step floor(n f / t) + 1.
+double first_breaking_step(std::int64_t step, double tension, double threshold,
+                           double force_floor);
+
+class CriticalBonds {
+ public:
+  /// Collective (the force floor is a global mean of the thresholds).
+  CriticalBonds(const DistributedLattice& lattice, BreakRule rule);
+
+  /// The bonds that break now under the rule, the same list on every rank
+  /// (all critical ones ordered by id, or the most critical one).  Collective;
+  /// throws NumericalError naming a bond with a non-finite force.
+  std::vector<Rupture> find(const std::vector<double>& tensions) const;
+
+  /// First load step after `step` at which a bond becomes critical if the
+  /// field is scaled from `step` (at most max_steps + 1).  Collective.
+  std::int64_t next_step(const std::vector<double>& tensions, std::int64_t step,
+                         std::int64_t max_steps) const;
+
+  /// Throws InputError when the first increment already overloads more than
+  /// 1e-3 of the bonds of positive threshold (the increment skips the
+  /// elastic regime).  Collective.
+  void check_first_increment(const std::vector<double>& tensions, double increment) const;
+
+  double force_floor() const { return force_floor_; }
+
+ private:
+  const DistributedLattice& lattice_;
+  BreakRule rule_;
+  double force_floor_ = 0;
+};
+
+}  // namespace lem

@@ -1,0 +1,91 @@
+// Checkpoints of a fracture run and the signals that ask for one.
+//
+// A checkpoint holds the state at the last equilibrium (counters, the damage
+// history, displacements by lattice node id) and a fingerprint of the sample
+// and of the options that change the results.  The file is binary: a magic
+// header, the state as bytes (its size checked), the rest length-prefixed,
+// an FNV-1a checksum last; it is written whole or not at all.
+#pragma once
+
+#include "lem/distributed_lattice.hpp"
+#include "lem/fracture/damage_ledger.hpp"
+#include "lem/fracture/options.hpp"
+#include "lem/fracture/state.hpp"
+
+#include <mpi.h>
+
+#include <csignal>
+#include <string>
+#include <vector>
+
+namespace lem {
+
+struct Checkpoint {
+  FractureState state;
+  std::string fingerprint;
+  DamageHistory damage;
+  std::vector<double> displacement;  // 3 per lattice node id
+};
+
+/// Rank 0 only.  Throws InputError naming the file on failure.
+void write_checkpoint_file(const std::string& path, const Checkpoint& checkpoint);
+/// Rank 0 only.  Throws InputError naming the file when it is not a valid
+/// checkpoint of this version.
+Checkpoint read_checkpoint_file(const std::string& path);
+
+/// The sample (ids, stiffnesses, thresholds, hashed order-free) and the
+/// options that change the results, one "key=value" per line.  Collective.
+std::string fracture_fingerprint(const DistributedLattice& lattice,
+                                 const FractureOptions& options);
+
+/// Lines of two fingerprints that differ, as "checkpoint: ... this run: ..."
+/// (empty when they match).  The rank count may differ: `other_ranks` gets
+/// the checkpoint's when it does (0 otherwise).
+std::string fingerprint_differences(const std::string& theirs, const std::string& ours,
+                                    int& other_ranks);
+
+/// While alive, SIGTERM and SIGUSR1 only raise a flag; requested() asks
+/// every rank whether any got one.
+class StopSignals {
+ public:
+  StopSignals();
+  ~StopSignals();
+  StopSignals(const StopSignals&) = delete;
+  StopSignals& operator=(const StopSignals&) = delete;
+  bool requested(MPI_Comm comm) const;  // collective
+
+ private:
+  struct sigaction old_term_ {}, old_usr1_ {};
+};
+
+/// The checkpoint file of one run directory: keeps the state of the last
+/// equilibrium (hold) so that it can be written later (save), also after a
+/// failed solve.  Collective except where noted.
+class CheckpointStore {
+ public:
+  CheckpointStore(const DistributedLattice& lattice, std::string path, std::string fingerprint);
+
+  bool exists() const;
+  /// Read, check the fingerprint, share with every rank.  Throws InputError
+  /// naming what differs.  Says so when the rank count changed.
+  Checkpoint load() const;
+  /// Remember the state at this equilibrium (owned displacements).
+  void hold(const FractureState& state, const DamageMark& damage, std::vector<double> owned_u);
+  /// Write the held state.
+  void save(const DamageLedger& ledger) const;
+  const FractureState& held_state() const { return held_.state; }
+  const std::string& path() const { return path_; }
+  /// Rank 0: delete the file (the run is complete).
+  void remove() const;
+
+ private:
+  const DistributedLattice& lattice_;
+  std::string path_, fingerprint_;
+  struct Held {
+    FractureState state;
+    DamageMark damage;
+    std::vector<double> u;
+  } held_;
+};
+
+}  // namespace lem

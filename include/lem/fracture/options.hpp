@@ -1,0 +1,57 @@
+// Fracture options, read once per run into plain values (no strings are
+// compared past this point).
+#pragma once
+
+#include <mpi.h>
+
+#include <array>
+#include <cstdint>
+#include <string>
+
+namespace lem {
+
+inline constexpr int kBondPhases = 5;  // p, m, v, pp, pm (lem::Phase order)
+
+/// Which critical bonds break in one relaxation cycle.
+enum class BreakRule { all, most_critical };  // all: the paper's rule
+const char* name_of(BreakRule rule);
+
+/// Random factor on the breaking thresholds.
+enum class ThresholdDisorder { none, uniform, weibull };
+
+struct FractureOptions {
+  double increment = 3e-4;           // top displacement per step, units of a
+  BreakRule break_rule = BreakRule::all;
+  bool skip_idle = true;             // jump over increments without rupture
+  double stop_fraction = 0.05;       // end when sigma < this * peak after the peak
+  double max_strain_ratio = 10;      // ... or when the strain exceeds this * peak strain
+  bool stop_within_step = false;     // test the stop fraction after every relaxation
+                                     // cycle (calibration: only the peak matters)
+  std::int64_t max_steps = 1000000;
+  std::int64_t rebuild_after_ruptures = 2000;  // 0: never by count
+  double rebuild_iteration_growth = 2.5;       // 0: never by iterations
+  // Threshold disorder: f *= factor(seed, bond id) for the phases listed.
+  ThresholdDisorder disorder = ThresholdDisorder::none;
+  double disorder_width = 0.0;       // uniform: factor in [1 - w, 1 + w]
+  double weibull_modulus = 6.0;      // weibull: mean-one Weibull factor
+  std::uint64_t disorder_seed = 1;
+  std::array<bool, kBondPhases> disorder_phases{true, true, false, true, true};
+  // Checkpoints (0: never by that criterion); also on SIGTERM / SIGUSR1.
+  std::int64_t checkpoint_steps = 0;
+  double checkpoint_seconds = 600;
+  bool resume = true;                // resume from <output_dir>/checkpoint.bin
+  // Results.
+  std::string output_dir = "results/fracture";
+  std::int64_t snapshot_steps = 0;   // fields every this many load steps (0: none)
+  bool elastic_fields = false;       // <output_dir>/elastic.h5: the first equilibrium,
+                                     // with node stresses when the lattice has volumes
+  double strength_unit = 1.0;        // sigma^[p] for the normalised columns
+  double modulus_unit = 1.0;         // E^[p]
+  double stress_unit = 1.0;          // raw stress * this = stress in the units of the
+                                     // phase moduli (sample files: 1; lattices: a/k)
+};
+
+/// Read the -fracture_*, -strength_* and -checkpoint_* options.
+FractureOptions read_fracture_options(MPI_Comm comm);
+
+}  // namespace lem

@@ -1,0 +1,40 @@
+// When the kept preconditioner is rebuilt, and the bookkeeping of every
+// solve (counts, builds in the damage ledger).  A rebuild is asked for after
+// `rebuild_after_ruptures` ruptures since the last build, or when a
+// relaxation solve takes more than `growth` times the iterations of the
+// first relaxation solve after the last build.
+#pragma once
+
+#include "lem/elastic_system.hpp"
+#include "lem/fracture/damage_ledger.hpp"
+#include "lem/fracture/state.hpp"
+
+#include <cstdint>
+
+namespace lem {
+
+/// The rules alone (no system): each returns true when a rebuild is due.
+struct RebuildRule {
+  std::int64_t after_ruptures = 2000;  // 0: never by count
+  double iteration_growth = 2.5;       // 0: never by iterations
+  bool after_new_ruptures(PreconditionerState& s, std::int64_t ruptures) const;
+  bool after_solve(PreconditionerState& s, int iterations, bool built, bool relaxation) const;
+};
+
+class PreconditionerPolicy {
+ public:
+  PreconditionerPolicy(ElasticSystem& system, DamageLedger& ledger, RebuildRule rule,
+                       PreconditionerState& state, FractureTally& tally);
+  /// Solve for the top displacement, count it, apply the rule.
+  SolveReport solve(double top_displacement, bool relaxation);
+  void note_ruptures(std::int64_t ruptures);
+
+ private:
+  ElasticSystem& system_;
+  DamageLedger& ledger_;
+  RebuildRule rule_;
+  PreconditionerState& state_;
+  FractureTally& tally_;
+};
+
+}  // namespace lem

@@ -1,0 +1,67 @@
+// The fracture results of one run directory: the stress-strain curve
+// (curve.csv, one row per evaluated load step), every rupture (broken.csv),
+// field snapshots and the fields of the first equilibrium.  The CSV files
+// grow as <name>.part and are renamed when the run is complete; on resume
+// they are cut back to the lengths recorded with the checkpoint.
+#pragma once
+
+#include "lem/distributed_lattice.hpp"
+#include "lem/elastic_system.hpp"
+#include "lem/fracture/break_rule.hpp"
+#include "lem/fracture/options.hpp"
+#include "lem/fracture/state.hpp"
+#include "lem/hdf5_writer.hpp"
+
+#include <cstdint>
+#include <cstdio>
+#include <memory>
+#include <string>
+
+namespace lem {
+
+class FractureRecorder {
+ public:
+  FractureRecorder(const DistributedLattice& lattice, const ElasticSystem& system,
+                   const FractureOptions& options, const Provenance& provenance);
+
+  /// Start new files (and drop an earlier run's snapshots), or reopen them
+  /// at the recorded lengths.  Collective.
+  void open_new();
+  void reopen(const ResultFileMarks& marks);
+
+  /// Rank 0 writes; the others ignore the call.
+  void curve_row(std::int64_t step, const TensionResponse& r, double stress_before, int cycles,
+                 bool idle, const FractureTally& tally, double elapsed_seconds);
+  void rupture(std::int64_t step, int cycle, double strain, const Rupture& x);
+  void flush_ruptures();
+
+  /// Lengths of the files now (flushed), the same on every rank.  Collective.
+  ResultFileMarks marks();
+  /// Flush and fsync (before a checkpoint).  Rank 0.
+  void sync();
+
+  /// Fields of the current state as snapshot_<step> when a multiple of
+  /// -output_snapshot_steps was crossed since `previous_step`.  Collective.
+  void snapshot_if_due(std::int64_t step, std::int64_t previous_step, const TensionResponse& r);
+  /// elastic.h5: the first equilibrium with its node stresses.  Collective.
+  void elastic_fields(const TensionResponse& r);
+
+  /// Close and move curve.csv and broken.csv into place.  Collective.
+  void finish();
+
+ private:
+  struct FileCloser {
+    void operator()(std::FILE* f) const { std::fclose(f); }
+  };
+  using File = std::unique_ptr<std::FILE, FileCloser>;
+
+  const DistributedLattice& lattice_;
+  const ElasticSystem& system_;
+  const FractureOptions& options_;
+  const Provenance& provenance_;
+  int rank_ = 0;
+  std::string curve_path_, broken_path_;
+  File curve_, broken_;
+};
+
+}  // namespace lem

@@ -1,0 +1,70 @@
+// Relaxation at a fixed load (paper appendix A): break the critical bonds,
+// pin the pieces they cut loose, solve, and repeat until no bond is
+// critical.  `Relaxation` is the room for other schemes (local patch solves
+// before a global one); `GlobalRelaxation` is the paper's cycle, where
+// every solve is a global one, and the reference the others are tested
+// against.
+#pragma once
+
+#include "lem/distributed_lattice.hpp"
+#include "lem/elastic_system.hpp"
+#include "lem/fracture/break_rule.hpp"
+#include "lem/fracture/damage_ledger.hpp"
+#include "lem/fracture/options.hpp"
+#include "lem/fracture/preconditioner_policy.hpp"
+#include "lem/fracture/progress.hpp"
+#include "lem/fracture/recorder.hpp"
+#include "lem/fracture/state.hpp"
+#include "lem/pieces.hpp"
+
+#include <cstdint>
+
+namespace lem {
+
+struct RelaxationOutcome {
+  int cycles = 0;              // solves after ruptures
+  std::int64_t broken = 0;     // bonds broken at this load
+  bool disconnected = false;   // no piece joins the bottom to the top face any more
+};
+
+/// The parts of the protocol a relaxation works with.
+struct RelaxationParts {
+  DistributedLattice& lattice;
+  ElasticSystem& system;
+  const FractureOptions& options;
+  const CriticalBonds& critical;
+  DamageLedger& ledger;
+  PreconditionerPolicy& solver;
+  FractureRecorder& recorder;
+  ProgressReporter& progress;
+  const RunClock& clock;
+  FractureTally& tally;
+};
+
+class Relaxation {
+ public:
+  virtual ~Relaxation() = default;
+  /// Starting from an equilibrium at `top_displacement`, break and relax
+  /// until no bond is critical in the global field, the faces separate, or
+  /// (options.stop_within_step) the stress falls below the stop level.
+  /// Collective.
+  virtual RelaxationOutcome relax(std::int64_t step, double top_displacement, double strain,
+                                  double stress_before) = 0;
+};
+
+class GlobalRelaxation : public Relaxation {
+ public:
+  explicit GlobalRelaxation(const RelaxationParts& parts);
+  RelaxationOutcome relax(std::int64_t step, double top_displacement, double strain,
+                          double stress_before) override;
+
+ private:
+  /// Pin the pieces cut loose by the last batch; returns whether some piece
+  /// still joins the faces.
+  bool pin_loose_pieces();
+
+  RelaxationParts p_;
+  PieceFinder pieces_;
+};
+
+}  // namespace lem

@@ -1,0 +1,116 @@
+#include "lem/fracture/break_rule.hpp"
+
+#include "lem/collective.hpp"
+#include "lem/error.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+namespace lem {
+
+bool is_critical(double tension, double threshold, double force_floor) {
+  return tension > threshold && tension > force_floor;
+}
+
+bool more_critical(const Rupture& a, const Rupture& b) {
+  return a.ratio > b.ratio || (a.ratio == b.ratio && a.id < b.id);
+}
+
+double first_breaking_step(std::int64_t step, double tension, double threshold,
+                           double force_floor) {
+  const double f = std::max(threshold, force_floor);
+  return std::floor(static_cast<double>(step) * f / tension) + 1.0;
+}
+
+CriticalBonds::CriticalBonds(const DistributedLattice& l, BreakRule rule)
+    : lattice_(l), rule_(rule) {
+  // Forces below the floor are solver noise.
+  double sums[2] = {0, 0}, totals[2];
+  for (int b = 0; b < l.local_bonds(); ++b)
+    if (l.bond_reported[b] && !l.bond_strength.empty() && l.bond_strength[b] > 0)
+      sums[0] += l.bond_strength[b], sums[1] += 1;
+  MPI_Allreduce(sums, totals, 2, MPI_DOUBLE, MPI_SUM, l.comm);
+  force_floor_ = totals[1] > 0 ? 1e-6 * totals[0] / totals[1] : 0.0;
+}
+
+std::vector<Rupture> CriticalBonds::find(const std::vector<double>& tension) const {
+  const DistributedLattice& l = lattice_;
+  std::int64_t bad = -1, worst = -1;
+  for (int b = 0; b < l.local_bonds() && bad < 0; ++b)
+    if (!std::isfinite(tension[b])) bad = l.bond_id[b];
+  MPI_Allreduce(&bad, &worst, 1, MPI_INT64_T, MPI_MAX, l.comm);  // every rank decides alike
+  if (worst >= 0)
+    throw NumericalError("bond " + std::to_string(worst) + " has a non-finite force");
+  std::vector<Rupture> mine;
+  for (int b = 0; b < l.local_bonds(); ++b) {
+    if (!l.bond_reported[b] || l.bond_stiffness[b] <= 0) continue;
+    const double t = tension[b], f = l.bond_strength[b];
+    if (!is_critical(t, f, force_floor_)) continue;
+    const auto [p, q] = l.bond_ends[b];
+    Rupture r{};
+    r.id = l.bond_id[b];
+    r.ratio = f > 0 ? t / f : std::numeric_limits<double>::infinity();
+    r.force = t;
+    r.threshold = f;
+    r.x = 0.5 * (l.coords[p][0] + l.coords[q][0]);
+    r.y = 0.5 * (l.coords[p][1] + l.coords[q][1]);
+    r.z = 0.5 * (l.coords[p][2] + l.coords[q][2]);
+    r.phase = l.bond_tag.empty() ? 0 : static_cast<int>(l.bond_tag[b]);
+    mine.push_back(r);
+  }
+  if (rule_ == BreakRule::most_critical) {
+    if (!mine.empty()) mine = {*std::min_element(mine.begin(), mine.end(), more_critical)};
+    auto all = allgather(l.comm, mine);
+    if (!all.empty()) all = {*std::min_element(all.begin(), all.end(), more_critical)};
+    return all;
+  }
+  auto all = allgather(l.comm, mine);
+  std::sort(all.begin(), all.end(), [](const Rupture& a, const Rupture& b) { return a.id < b.id; });
+  return all;
+}
+
+std::int64_t CriticalBonds::next_step(const std::vector<double>& tension, std::int64_t step,
+                                      std::int64_t max_steps) const {
+  const DistributedLattice& l = lattice_;
+  double first = std::numeric_limits<double>::infinity();
+  for (int b = 0; b < l.local_bonds(); ++b) {
+    if (!l.bond_reported[b] || l.bond_stiffness[b] <= 0 || !(tension[b] > 0)) continue;
+    first = std::min(first, first_breaking_step(step, tension[b], l.bond_strength[b],
+                                                force_floor_));
+  }
+  double global = 0;
+  MPI_Allreduce(&first, &global, 1, MPI_DOUBLE, MPI_MIN, l.comm);
+  // Progress is guaranteed; rounding at most costs an idle evaluation.
+  const double n = static_cast<double>(step);
+  const double cap = static_cast<double>(max_steps) + 1.0;
+  return static_cast<std::int64_t>(std::max(n + 1.0, std::min(global, cap)));
+}
+
+void CriticalBonds::check_first_increment(const std::vector<double>& tension,
+                                          double increment) const {
+  const DistributedLattice& l = lattice_;
+  double local[2] = {0, 0}, global[2];  // count over threshold, largest force/threshold
+  std::int64_t counted = 0, total = 0;
+  for (int b = 0; b < l.local_bonds(); ++b) {
+    if (!l.bond_reported[b] || l.bond_stiffness[b] <= 0 || l.bond_strength[b] <= 0) continue;
+    ++counted;
+    const double ratio = tension[b] / l.bond_strength[b];
+    if (ratio > 1) local[0] += 1;
+    local[1] = std::max(local[1], ratio);
+  }
+  MPI_Allreduce(&local[0], &global[0], 1, MPI_DOUBLE, MPI_SUM, l.comm);
+  MPI_Allreduce(&local[1], &global[1], 1, MPI_DOUBLE, MPI_MAX, l.comm);
+  MPI_Allreduce(&counted, &total, 1, MPI_INT64_T, MPI_SUM, l.comm);
+  if (total > 0 && global[0] > 1e-3 * static_cast<double>(total)) {
+    std::ostringstream m;
+    m << "option -fracture_increment = " << increment << " is too large for this sample: "
+      << "the first increment already overloads " << static_cast<long long>(global[0])
+      << " bonds (up to " << global[1] << " times their threshold); take it below "
+      << increment / (10 * global[1]) << " so that the elastic regime has a few steps";
+    throw InputError(m.str());
+  }
+}
+
+}  // namespace lem

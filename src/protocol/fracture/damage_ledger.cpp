@@ -1,0 +1,102 @@
+#include "lem/fracture/damage_ledger.hpp"
+
+#include <algorithm>
+
+namespace lem {
+
+DamageLedger::DamageLedger(DistributedLattice& l, ElasticSystem& s) : lattice_(l), system_(s) {
+  for (int b = 0; b < l.local_bonds(); ++b) local_bonds_[l.bond_id[b]].push_back(b);
+  for (int n = 0; n < l.local_nodes(); ++n) local_nodes_[l.node_id[n]] = n;
+}
+
+std::int64_t DamageLedger::open_batch() { return ++batches_; }
+
+void DamageLedger::break_bonds(const std::vector<std::int64_t>& ids) {
+  for (std::int64_t id : ids) {
+    history_.bond_events.push_back(id);
+    history_.bond_batches.push_back(batches_);
+  }
+  apply(ids, {});
+}
+
+std::int64_t DamageLedger::active_reported_bonds() const {
+  std::int64_t n = 0;
+  for (int b = 0; b < lattice_.local_bonds(); ++b)
+    n += lattice_.bond_reported[b] && lattice_.bond_stiffness[b] > 0;
+  return n;
+}
+
+std::int64_t DamageLedger::pin_nodes(const std::vector<std::int64_t>& ids) {
+  for (std::int64_t id : ids) {
+    history_.node_events.push_back(id);
+    history_.node_batches.push_back(batches_);
+  }
+  const std::int64_t before = active_reported_bonds();
+  apply({}, ids);
+  std::int64_t detached = before - active_reported_bonds(), total = 0;
+  MPI_Allreduce(&detached, &total, 1, MPI_INT64_T, MPI_SUM, lattice_.comm);
+  return total;
+}
+
+void DamageLedger::apply(const std::vector<std::int64_t>& bonds,
+                         const std::vector<std::int64_t>& nodes) {
+  for (std::int64_t id : bonds) {
+    const auto it = local_bonds_.find(id);
+    if (it == local_bonds_.end()) continue;
+    for (int b : it->second) system_.set_bond_stiffness(b, 0.0);
+  }
+  if (nodes.empty()) return;
+  std::vector<char> pin(lattice_.local_nodes(), 0);
+  std::vector<int> local;
+  for (std::int64_t id : nodes) {
+    const auto it = local_nodes_.find(id);
+    if (it == local_nodes_.end()) continue;
+    pin[it->second] = 1;
+    local.push_back(it->second);
+  }
+  std::sort(local.begin(), local.end());
+  // Detach the bonds of the pinned pieces (no load: not counted as broken).
+  for (int b = 0; b < lattice_.local_bonds(); ++b) {
+    const auto [p, q] = lattice_.bond_ends[b];
+    if (lattice_.bond_stiffness[b] > 0 && (pin[p] || pin[q])) system_.set_bond_stiffness(b, 0.0);
+  }
+  system_.pin_nodes(local);
+}
+
+void DamageLedger::replay(DamageHistory h, std::int64_t batches) {
+  std::size_t ib = 0, in = 0, ip = 0;
+  auto builds_after = [&](std::int64_t batch) {
+    for (; ip < h.build_batches.size() && h.build_batches[ip] == batch; ++ip)
+      system_.build_preconditioner();
+  };
+  builds_after(0);
+  for (std::int64_t batch = 1; batch <= batches; ++batch) {
+    std::vector<std::int64_t> bonds, nodes;
+    for (; ib < h.bond_events.size() && h.bond_batches[ib] == batch; ++ib)
+      bonds.push_back(h.bond_events[ib]);
+    for (; in < h.node_events.size() && h.node_batches[in] == batch; ++in)
+      nodes.push_back(h.node_events[in]);
+    apply(bonds, nodes);
+    system_.finish_updates();
+    builds_after(batch);
+  }
+  history_ = std::move(h);
+  batches_ = batches;
+}
+
+DamageMark DamageLedger::mark() const {
+  return {history_.bond_events.size(), history_.node_events.size(),
+          history_.build_batches.size()};
+}
+
+DamageHistory DamageLedger::prefix(const DamageMark& m) const {
+  auto head = [](const std::vector<std::int64_t>& v, std::size_t n) {
+    return std::vector<std::int64_t>(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(n));
+  };
+  const DamageHistory& h = history_;
+  return {head(h.bond_events, m.bonds), head(h.bond_batches, m.bonds),
+          head(h.node_events, m.nodes), head(h.node_batches, m.nodes),
+          head(h.build_batches, m.builds)};
+}
+
+}  // namespace lem

@@ -1,0 +1,89 @@
+#include "lem/fracture/options.hpp"
+
+#include "lem/error.hpp"
+#include "lem/options.hpp"
+
+#include <sstream>
+
+namespace lem {
+
+const char* name_of(BreakRule rule) {
+  return rule == BreakRule::all ? "all" : "most_critical";
+}
+
+FractureOptions read_fracture_options(MPI_Comm comm) {
+  FractureOptions o;
+  {
+    OptionGroup g(comm, "Fracture protocol (paper sect. 2.3, appendix A)");
+    o.increment = g.real("-fracture_increment", "Top displacement added per load step, in "
+                         "units of the mean bond length a (paper: 3e-4)", o.increment, 0.0,
+                         0.01, true);
+    o.break_rule = g.choice("-fracture_break_rule", "Which critical bonds break in a relaxation "
+                            "cycle: all (paper) or the most critical only",
+                            {"all", "most_critical"}, "all") == "all"
+                       ? BreakRule::all
+                       : BreakRule::most_critical;
+    o.skip_idle = g.flag("-fracture_skip_idle", "Jump over load steps at which no bond breaks "
+                         "(exact: the system is linear between ruptures)", o.skip_idle);
+    o.stop_fraction = g.real("-fracture_stop_fraction", "End the run once the stress has "
+                             "fallen below this fraction of the peak", o.stop_fraction, 0.0,
+                             1.0, true, true);
+    o.max_strain_ratio = g.real("-fracture_max_strain_ratio", "End the run once the strain "
+                                "exceeds this multiple of the strain at the peak (the slow "
+                                "post-failure tail; 0: no limit)", o.max_strain_ratio, 0.0, 1e9);
+    o.max_steps = g.integer("-fracture_max_steps", "Largest load step (the run ends there)",
+                            o.max_steps, 1, 1'000'000'000);
+    o.rebuild_after_ruptures = g.integer(
+        "-fracture_pc_rebuild_ruptures", "Rebuild the preconditioner after this many ruptures "
+        "since the last build (0: never for this reason)", o.rebuild_after_ruptures, 0,
+        1'000'000'000);
+    o.rebuild_iteration_growth = g.real(
+        "-fracture_pc_rebuild_growth", "Rebuild the preconditioner when a relaxation solve "
+        "takes more than this times the iterations of the first one after the last build (0: "
+        "never for this reason)", o.rebuild_iteration_growth, 0.0, 1e6);
+  }
+  {
+    OptionGroup g(comm, "Threshold disorder (seeded; the same on any rank count)");
+    const std::string disorder = g.choice("-strength_disorder", "Random factor on the breaking "
+                                          "thresholds", {"none", "uniform", "weibull"}, "none");
+    o.disorder = disorder == "uniform"   ? ThresholdDisorder::uniform
+                 : disorder == "weibull" ? ThresholdDisorder::weibull
+                                         : ThresholdDisorder::none;
+    o.disorder_width = g.real("-strength_disorder_width", "uniform: factor drawn in "
+                              "[1 - w, 1 + w]", 0.2, 0.0, 1.0, false, true);
+    o.weibull_modulus = g.real("-strength_weibull_modulus", "weibull: shape m of the "
+                               "mean-one Weibull factor", o.weibull_modulus, 0.0, 1000.0, true);
+    o.disorder_seed = static_cast<std::uint64_t>(
+        g.integer("-strength_disorder_seed", "Seed of the threshold factors", 1, 0,
+                  PETSC_MAX_INT));
+    const std::string phases = g.string("-strength_disorder_phases", "Comma-separated bond "
+                                        "phases that get the factor (p, m, pp, pm)",
+                                        "p,m,pp,pm");
+    const char* names[kBondPhases] = {"p", "m", "v", "pp", "pm"};
+    o.disorder_phases.fill(false);
+    std::stringstream list(phases);
+    for (std::string item; std::getline(list, item, ',');) {
+      int found = -1;
+      for (int k = 0; k < kBondPhases; ++k)
+        if (item == names[k] && k != 2) found = k;
+      if (found < 0)
+        throw InputError("option -strength_disorder_phases: '" + item + "' is not a bond "
+                         "phase; allowed: p, m, pp, pm");
+      o.disorder_phases[found] = true;
+    }
+  }
+  {
+    OptionGroup g(comm, "Checkpoint and restart");
+    o.checkpoint_steps = g.integer("-checkpoint_steps", "Write a checkpoint every this many "
+                                   "load steps (0: not by steps)", 0, 0, 1'000'000'000);
+    o.checkpoint_seconds = g.real("-checkpoint_seconds", "Write a checkpoint when this much "
+                                  "wall time has passed since the last one (0: not by time); "
+                                  "SIGTERM or SIGUSR1 also write one and stop the run", 600.0,
+                                  0.0, 1e9);
+    o.resume = g.flag("-checkpoint_resume", "Resume from the checkpoint in -output_dir if there "
+                      "is one (false: start over and overwrite it)", true);
+  }
+  return o;
+}
+
+}  // namespace lem

@@ -1,0 +1,50 @@
+#include "lem/fracture/preconditioner_policy.hpp"
+
+#include <algorithm>
+
+namespace lem {
+
+bool RebuildRule::after_new_ruptures(PreconditionerState& s, std::int64_t ruptures) const {
+  s.ruptures_since_build += ruptures;
+  return after_ruptures > 0 && s.ruptures_since_build >= after_ruptures;
+}
+
+bool RebuildRule::after_solve(PreconditionerState& s, int iterations, bool built,
+                              bool relaxation) const {
+  if (built) {
+    s.ruptures_since_build = 0;
+    s.baseline_iterations = 0;
+  }
+  if (!relaxation) return false;
+  if (s.baseline_iterations == 0) {
+    s.baseline_iterations = std::max(1, iterations);
+    return false;
+  }
+  return iteration_growth > 0 &&
+         iterations > iteration_growth * static_cast<double>(s.baseline_iterations);
+}
+
+PreconditionerPolicy::PreconditionerPolicy(ElasticSystem& system, DamageLedger& ledger,
+                                           RebuildRule rule, PreconditionerState& state,
+                                           FractureTally& tally)
+    : system_(system), ledger_(ledger), rule_(rule), state_(state), tally_(tally) {}
+
+SolveReport PreconditionerPolicy::solve(double top_displacement, bool relaxation) {
+  const SolveReport report = system_.solve(top_displacement);
+  tally_.solves += 1;
+  tally_.iterations += report.iterations;
+  tally_.fallback_solves += report.used_fallback;
+  if (report.preconditioner_built) {
+    tally_.preconditioner_builds += 1;
+    ledger_.record_build();
+  }
+  if (rule_.after_solve(state_, report.iterations, report.preconditioner_built, relaxation))
+    system_.rebuild_preconditioner();
+  return report;
+}
+
+void PreconditionerPolicy::note_ruptures(std::int64_t ruptures) {
+  if (rule_.after_new_ruptures(state_, ruptures)) system_.rebuild_preconditioner();
+}
+
+}  // namespace lem
