@@ -5,6 +5,7 @@
 //   mpirun -n 2 lem_fracture -lattice_bonds 200000 -lattice_break_strain 1e-3
 #include "lem/driver.hpp"
 #include "lem/error.hpp"
+#include "lem/files.hpp"
 #include "lem/fracture.hpp"
 #include "lem/options.hpp"
 #include "lem/setup.hpp"

@@ -9,11 +9,11 @@
 // option handling and the error report.
 #include "lem/driver.hpp"
 #include "lem/error.hpp"
+#include "lem/files.hpp"
 #include "lem/hdf5_writer.hpp"
 #include "lem/options.hpp"
 #include "lem/packing.hpp"
 #include "lem/sample_options.hpp"
-#include "lem/tension_output.hpp"  // prepare_output_dir
 
 #include <cstdio>
 #include <string>

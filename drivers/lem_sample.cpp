@@ -9,12 +9,12 @@
 #include "lem/cemented_sample.hpp"
 #include "lem/driver.hpp"
 #include "lem/error.hpp"
+#include "lem/files.hpp"
 #include "lem/hdf5_writer.hpp"
 #include "lem/options.hpp"
 #include "lem/sample_file.hpp"
 #include "lem/sample_options.hpp"
 #include "lem/summary.hpp"
-#include "lem/tension_output.hpp"  // prepare_output_dir
 
 #include <string>
 

@@ -15,6 +15,7 @@
 #include "lem/effective_medium.hpp"
 #include "lem/elastic_system.hpp"
 #include "lem/error.hpp"
+#include "lem/files.hpp"
 #include "lem/hdf5_writer.hpp"
 #include "lem/line_fit.hpp"
 #include "lem/options.hpp"

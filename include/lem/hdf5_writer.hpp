@@ -7,6 +7,8 @@
 // file that looks complete.
 #pragma once
 
+#include "lem/files.hpp"  // write_text_file_atomically, for older includers
+
 #include <mpi.h>
 
 #include <array>
@@ -59,9 +61,5 @@ struct BondSlice {
 void write_lattice_fields(MPI_Comm comm, const std::string& stem, const NodeSlice& nodes,
                           const BondSlice& bonds, const Provenance& provenance,
                           const std::vector<std::pair<std::string, double>>& scalars);
-
-/// Write `path` from text held on rank 0 only: via a temporary file and an
-/// atomic rename, so a killed run leaves no half-written result.
-void write_text_file_atomically(const std::string& path, const std::string& text);
 
 }  // namespace lem

@@ -5,20 +5,13 @@
 // depends on how the lattice is later partitioned.
 #pragma once
 
+#include "lem/geometry.hpp"
+
 #include <array>
 #include <cstdint>
 #include <vector>
 
 namespace lem {
-
-using Point = std::array<double, 3>;
-
-struct Box {
-  Point lo{0.0, 0.0, 0.0};
-  Point hi{1.0, 1.0, 1.0};
-  double length(int axis) const { return hi[axis] - lo[axis]; }
-  double volume() const { return length(0) * length(1) * length(2); }
-};
 
 struct Bond {
   std::int32_t i, j;  // node indices, i < j

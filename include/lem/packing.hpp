@@ -16,7 +16,7 @@
 // Lengths are in the units of d_min (d_min = 1 gives the paper's units).
 #pragma once
 
-#include "lem/lattice.hpp"  // Point, Box
+#include "lem/geometry.hpp"
 
 #include <cstdint>
 #include <functional>

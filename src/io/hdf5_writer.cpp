@@ -23,7 +23,7 @@
 #include <utility>
 
 #include "lem/error.hpp"
-#include "hdf5_util.hpp"
+#include "lem/hdf5_util.hpp"
 
 #ifndef LEM_VERSION
 #define LEM_VERSION "unknown"
@@ -726,30 +726,6 @@ void write_lattice_fields(MPI_Comm comm, const std::string& stem, const NodeSlic
     }
   }
   raise_collectively(comm, error);
-}
-
-void write_text_file_atomically(const std::string& path, const std::string& text) {
-  const std::string tmp = path + ".tmp";
-  std::error_code ec;
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) {
-      throw InputError("cannot write file '" + path + "': cannot create '" + tmp + "'");
-    }
-    out.write(text.data(), static_cast<std::streamsize>(text.size()));
-    out.flush();
-    out.close();
-    if (out.fail()) {
-      fs::remove(tmp, ec);
-      throw InputError("cannot write file '" + path + "': writing '" + tmp + "' failed");
-    }
-  }
-  fs::rename(tmp, path, ec);
-  if (ec) {
-    const std::string reason = ec.message();
-    fs::remove(tmp, ec);
-    throw InputError("cannot write file '" + path + "': renaming '" + tmp + "' failed: " + reason);
-  }
 }
 
 }  // namespace lem

@@ -3,7 +3,7 @@
 // everything it loads so that a wrong or damaged file is one clear message.
 #include "lem/sample_file.hpp"
 
-#include "hdf5_util.hpp"
+#include "lem/hdf5_util.hpp"
 #include "lem/error.hpp"
 
 #include <hdf5.h>

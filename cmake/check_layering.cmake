@@ -1,0 +1,108 @@
+# Fails when a file includes a header of a module it may not use.
+#
+#   cmake -DSOURCE_DIR=<repo> -DLAYERS=<build>/layers.txt [-DEXTRA=<module>:<file>]
+#         -P check_layering.cmake
+#
+# LAYERS is written by lem_module() in the root CMakeLists.txt, one line per
+# module: name|dependency,...|header,...  A module may use its own headers
+# and those of its dependencies, transitively.  Headers of include/lem/<m>/
+# belong to module <m>.  Every header in include/lem must belong to a module.
+# Drivers (drivers/*.cpp) may use every module.  EXTRA checks one more file
+# as if it were part of <module> (the test that the check catches a bad one).
+
+cmake_minimum_required(VERSION 3.20)
+
+file(STRINGS "${LAYERS}" lines)
+set(modules "")
+foreach(line IN LISTS lines)
+  string(REPLACE "|" ";" parts "${line}")
+  list(GET parts 0 name)
+  list(GET parts 1 deps)
+  list(GET parts 2 headers)
+  string(REPLACE "," ";" deps "${deps}")
+  string(REPLACE "," ";" headers "${headers}")
+  list(APPEND modules ${name})
+  set(deps_${name} ${deps})
+  foreach(h IN LISTS headers)
+    set(owner_${h} ${name})
+  endforeach()
+endforeach()
+
+# Everything a module may use: itself and its dependencies' closures (the
+# modules are listed bottom up, so a dependency's closure is known).
+foreach(m IN LISTS modules)
+  set(allowed_${m} ${m})
+  foreach(d IN LISTS deps_${m})
+    list(APPEND allowed_${m} ${allowed_${d}})
+  endforeach()
+  list(REMOVE_DUPLICATES allowed_${m})
+endforeach()
+set(allowed_drivers ${modules})
+
+function(owner_of header out)
+  if(DEFINED owner_${header})
+    set(${out} ${owner_${header}} PARENT_SCOPE)
+  elseif(header MATCHES "^([a-z_]+)/" AND CMAKE_MATCH_1 IN_LIST modules)
+    set(${out} ${CMAKE_MATCH_1} PARENT_SCOPE)
+  else()
+    set(${out} "" PARENT_SCOPE)
+  endif()
+endfunction()
+
+set(problems "")
+function(check_file module path)
+  file(STRINGS "${path}" includes REGEX "^[ \t]*#[ \t]*include[ \t]*\"lem/[^\"]+\"")
+  foreach(line IN LISTS includes)
+    string(REGEX REPLACE ".*\"lem/([^\"]+)\".*" "\\1" header "${line}")
+    owner_of(${header} owner)
+    file(RELATIVE_PATH shown "${SOURCE_DIR}" "${path}")
+    if(owner STREQUAL "")
+      list(APPEND problems "${shown} includes lem/${header}, which belongs to no module")
+    elseif(NOT owner IN_LIST allowed_${module})
+      list(APPEND problems "${shown} (module ${module}) includes lem/${header} \
+(module ${owner}), which ${module} may not use")
+    endif()
+  endforeach()
+  set(problems "${problems}" PARENT_SCOPE)
+endfunction()
+
+# Headers: each one checked as part of its module; none left unowned.
+file(GLOB_RECURSE headers RELATIVE "${SOURCE_DIR}/include/lem" "${SOURCE_DIR}/include/lem/*.hpp")
+foreach(h IN LISTS headers)
+  owner_of(${h} owner)
+  if(owner STREQUAL "")
+    list(APPEND problems "include/lem/${h} belongs to no module (add it to lem_module HEADERS)")
+  else()
+    check_file(${owner} "${SOURCE_DIR}/include/lem/${h}")
+  endif()
+endforeach()
+foreach(m IN LISTS modules)
+  file(GLOB_RECURSE sources "${SOURCE_DIR}/src/${m}/*.cpp" "${SOURCE_DIR}/src/${m}/*.hpp")
+  foreach(f IN LISTS sources)
+    check_file(${m} "${f}")
+  endforeach()
+endforeach()
+file(GLOB drivers "${SOURCE_DIR}/drivers/*.cpp")
+foreach(f IN LISTS drivers)
+  check_file(drivers "${f}")
+endforeach()
+# A directory of src/ that is no module would escape the check.
+file(GLOB dirs LIST_DIRECTORIES true RELATIVE "${SOURCE_DIR}/src" "${SOURCE_DIR}/src/*")
+foreach(d IN LISTS dirs)
+  if(IS_DIRECTORY "${SOURCE_DIR}/src/${d}" AND NOT d IN_LIST modules)
+    list(APPEND problems "src/${d} is not a module (add a lem_module for it)")
+  endif()
+endforeach()
+if(DEFINED EXTRA)
+  string(REGEX REPLACE ":.*" "" extra_module "${EXTRA}")
+  string(REGEX REPLACE "^[^:]*:" "" extra_file "${EXTRA}")
+  check_file(${extra_module} "${extra_file}")
+endif()
+
+if(problems)
+  list(LENGTH problems count)
+  string(REPLACE ";" "\n  " text "${problems}")
+  message(FATAL_ERROR "layering: ${count} include(s) break the layering:\n  ${text}")
+endif()
+list(LENGTH modules count)
+message(STATUS "layering: ${count} modules, every include respects the layering")
