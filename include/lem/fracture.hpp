@@ -13,7 +13,7 @@
 // solving (-fracture_skip_idle); the curve and the broken-bond sequence are
 // those of stepping through every increment.
 //
-// The protocol is put together from parts with one job each (fracture/):
+// The protocol is put together from parts with one job each (lem/protocol/):
 //   options.hpp               the options, read once
 //   disorder.hpp              seeded threshold factors
 //   break_rule.hpp            which bonds are critical, when the next one will be
@@ -28,9 +28,9 @@
 
 #include "lem/distributed_lattice.hpp"
 #include "lem/elastic_system.hpp"
-#include "lem/fracture/disorder.hpp"
-#include "lem/fracture/options.hpp"
-#include "lem/fracture/state.hpp"
+#include "lem/protocol/disorder.hpp"
+#include "lem/protocol/options.hpp"
+#include "lem/protocol/state.hpp"
 #include "lem/hdf5_writer.hpp"
 
 #include <string>

@@ -6,13 +6,13 @@
 
 #include "lem/driver.hpp"
 #include "lem/error.hpp"
-#include "lem/fracture/break_rule.hpp"
-#include "lem/fracture/checkpoint.hpp"
-#include "lem/fracture/damage_ledger.hpp"
-#include "lem/fracture/preconditioner_policy.hpp"
-#include "lem/fracture/progress.hpp"
-#include "lem/fracture/recorder.hpp"
-#include "lem/fracture/relaxation.hpp"
+#include "lem/protocol/break_rule.hpp"
+#include "lem/protocol/checkpoint.hpp"
+#include "lem/protocol/damage_ledger.hpp"
+#include "lem/protocol/preconditioner_policy.hpp"
+#include "lem/protocol/progress.hpp"
+#include "lem/protocol/recorder.hpp"
+#include "lem/protocol/relaxation.hpp"
 #include "lem/options.hpp"
 
 #include <cmath>

@@ -4,8 +4,8 @@
 // ranks: every answer must be the same on both.
 #include "lem/collective.hpp"
 #include "lem/elastic_system.hpp"
-#include "lem/fracture/break_rule.hpp"
-#include "lem/fracture/damage_ledger.hpp"
+#include "lem/protocol/break_rule.hpp"
+#include "lem/protocol/damage_ledger.hpp"
 #include "lem/setup.hpp"
 
 #include <gtest/gtest.h>

@@ -3,11 +3,11 @@
 // time-left estimate, fingerprints and the checkpoint file format.
 #include "lem/byte_stream.hpp"
 #include "lem/error.hpp"
-#include "lem/fracture/break_rule.hpp"
-#include "lem/fracture/checkpoint.hpp"
-#include "lem/fracture/disorder.hpp"
-#include "lem/fracture/preconditioner_policy.hpp"
-#include "lem/fracture/progress.hpp"
+#include "lem/protocol/break_rule.hpp"
+#include "lem/protocol/checkpoint.hpp"
+#include "lem/protocol/disorder.hpp"
+#include "lem/protocol/preconditioner_policy.hpp"
+#include "lem/protocol/progress.hpp"
 
 #include <gtest/gtest.h>
 

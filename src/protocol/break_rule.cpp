@@ -1,4 +1,4 @@
-#include "lem/fracture/break_rule.hpp"
+#include "lem/protocol/break_rule.hpp"
 
 #include "lem/collective.hpp"
 #include "lem/error.hpp"

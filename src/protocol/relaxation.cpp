@@ -1,4 +1,4 @@
-#include "lem/fracture/relaxation.hpp"
+#include "lem/protocol/relaxation.hpp"
 
 #include "lem/collective.hpp"
 #include "lem/error.hpp"

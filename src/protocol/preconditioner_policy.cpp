@@ -1,4 +1,4 @@
-#include "lem/fracture/preconditioner_policy.hpp"
+#include "lem/protocol/preconditioner_policy.hpp"
 
 #include <algorithm>
 

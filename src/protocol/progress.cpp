@@ -1,4 +1,4 @@
-#include "lem/fracture/progress.hpp"
+#include "lem/protocol/progress.hpp"
 
 #include "lem/driver.hpp"
 

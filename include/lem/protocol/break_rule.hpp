@@ -8,7 +8,7 @@
 #pragma once
 
 #include "lem/distributed_lattice.hpp"
-#include "lem/fracture/options.hpp"
+#include "lem/protocol/options.hpp"
 
 #include <cstdint>
 #include <vector>

@@ -1,4 +1,4 @@
-#include "lem/fracture/damage_ledger.hpp"
+#include "lem/protocol/damage_ledger.hpp"
 
 #include <algorithm>
 

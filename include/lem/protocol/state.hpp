@@ -3,7 +3,7 @@
 // continue.  Trivially copyable, so a checkpoint stores it as bytes.
 #pragma once
 
-#include "lem/fracture/options.hpp"
+#include "lem/protocol/options.hpp"
 
 #include <array>
 #include <cstdint>

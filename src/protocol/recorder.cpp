@@ -1,4 +1,4 @@
-#include "lem/fracture/recorder.hpp"
+#include "lem/protocol/recorder.hpp"
 
 #include "lem/driver.hpp"
 #include "lem/error.hpp"

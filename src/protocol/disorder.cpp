@@ -1,4 +1,4 @@
-#include "lem/fracture/disorder.hpp"
+#include "lem/protocol/disorder.hpp"
 
 #include "lem/byte_stream.hpp"
 

@@ -1,4 +1,4 @@
-#include "lem/fracture/options.hpp"
+#include "lem/protocol/options.hpp"
 
 #include "lem/error.hpp"
 #include "lem/options.hpp"

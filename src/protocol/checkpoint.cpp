@@ -1,4 +1,4 @@
-#include "lem/fracture/checkpoint.hpp"
+#include "lem/protocol/checkpoint.hpp"
 
 #include "lem/byte_stream.hpp"
 #include "lem/collective.hpp"

@@ -8,9 +8,9 @@
 #pragma once
 
 #include "lem/distributed_lattice.hpp"
-#include "lem/fracture/damage_ledger.hpp"
-#include "lem/fracture/options.hpp"
-#include "lem/fracture/state.hpp"
+#include "lem/protocol/damage_ledger.hpp"
+#include "lem/protocol/options.hpp"
+#include "lem/protocol/state.hpp"
 
 #include <mpi.h>
 

@@ -6,8 +6,8 @@
 #pragma once
 
 #include "lem/elastic_system.hpp"
-#include "lem/fracture/damage_ledger.hpp"
-#include "lem/fracture/state.hpp"
+#include "lem/protocol/damage_ledger.hpp"
+#include "lem/protocol/state.hpp"
 
 #include <cstdint>
 

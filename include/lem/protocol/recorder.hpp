@@ -7,9 +7,9 @@
 
 #include "lem/distributed_lattice.hpp"
 #include "lem/elastic_system.hpp"
-#include "lem/fracture/break_rule.hpp"
-#include "lem/fracture/options.hpp"
-#include "lem/fracture/state.hpp"
+#include "lem/protocol/break_rule.hpp"
+#include "lem/protocol/options.hpp"
+#include "lem/protocol/state.hpp"
 #include "lem/hdf5_writer.hpp"
 
 #include <cstdint>

@@ -1,8 +1,8 @@
 // Progress lines of a long run, with a time-left estimate after the peak.
 #pragma once
 
-#include "lem/fracture/options.hpp"
-#include "lem/fracture/state.hpp"
+#include "lem/protocol/options.hpp"
+#include "lem/protocol/state.hpp"
 
 #include <cstdint>
 #include <deque>

@@ -8,13 +8,13 @@
 
 #include "lem/distributed_lattice.hpp"
 #include "lem/elastic_system.hpp"
-#include "lem/fracture/break_rule.hpp"
-#include "lem/fracture/damage_ledger.hpp"
-#include "lem/fracture/options.hpp"
-#include "lem/fracture/preconditioner_policy.hpp"
-#include "lem/fracture/progress.hpp"
-#include "lem/fracture/recorder.hpp"
-#include "lem/fracture/state.hpp"
+#include "lem/protocol/break_rule.hpp"
+#include "lem/protocol/damage_ledger.hpp"
+#include "lem/protocol/options.hpp"
+#include "lem/protocol/preconditioner_policy.hpp"
+#include "lem/protocol/progress.hpp"
+#include "lem/protocol/recorder.hpp"
+#include "lem/protocol/state.hpp"
 #include "lem/pieces.hpp"
 
 #include <cstdint>

@@ -1,4 +1,4 @@
-#include "lem/fracture/state.hpp"
+#include "lem/protocol/state.hpp"
 
 namespace lem {
 
