@@ -171,6 +171,15 @@ int main(int argc, char** argv) {
     s.add("ksp_iterations", static_cast<long long>(r.iterations));
     s.add("pc_builds", static_cast<long long>(r.preconditioner_builds));
     s.add("fallback_solves", static_cast<long long>(r.fallback_solves));
+    s.add("relaxation", std::string(lem::name_of(options.relaxation)));
+    s.add("patch_solves", static_cast<long long>(r.patch_solves));
+    s.add("patch_iterations", static_cast<long long>(r.patch_iterations));
+    s.add("patch_nodes_mean", r.patch_solves > 0 ? static_cast<double>(r.patch_nodes) /
+                                                       static_cast<double>(r.patch_solves)
+                                                 : 0.0);
+    s.add("patch_overflows", static_cast<long long>(r.patch_overflows));
+    s.add("patch_error_max", r.patch_error_max);
+    s.add("patch_disabled_step", static_cast<long long>(r.patch_disabled_step));
     // A plain run solves at every step plus every relaxation cycle.
     s.add("solves_stepping_estimate", static_cast<long long>(r.steps + r.relaxation_cycles));
     s.add("work", r.work, "lattice");

@@ -88,6 +88,14 @@ class ElasticSystem {
   double top_displacement() const { return current_displacement_; }
   void set_state(const std::vector<double>& owned_values, double top_displacement);
 
+  /// Relax only the given owned nodes (every other displacement held): solve
+  /// K_PP du_P = r_P for the out-of-balance forces r = b - K u of the current
+  /// K and load, by CG (options prefix -patch_, default Jacobi) to `rtol` of
+  /// |r_P|, and add du_P.  Collective (a rank may pass no node).  The state
+  /// is then no equilibrium of K: only solve() makes it one again.  A patch
+  /// solve that does not converge leaves u unchanged (reason < 0).
+  SolveReport relax_patch(const std::vector<int>& owned_nodes, double rtol);
+
   TensionResponse response() const;
   /// Tension of every local bond (positive when stretched): k n.(u_j - u_i).
   std::vector<double> bond_tensions() const;

@@ -106,7 +106,12 @@ std::string fracture_fingerprint(const DistributedLattice& l, const FractureOpti
     << "\nsample_checksum=" << total << "\nincrement=" << o.increment
     << "\nbreak_rule=" << name_of(o.break_rule) << "\nskip_idle=" << o.skip_idle
     << "\npc_rebuild_ruptures=" << o.rebuild_after_ruptures
-    << "\npc_rebuild_growth=" << o.rebuild_iteration_growth << "\n";
+    << "\npc_rebuild_growth=" << o.rebuild_iteration_growth
+    << "\nrelaxation=" << name_of(o.relaxation);
+  if (o.relaxation == RelaxationScheme::local)
+    s << "\npatch_radius=" << o.patch_radius << "\npatch_margin=" << o.patch_margin
+      << "\npatch_max_fraction=" << o.patch_max_fraction << "\npatch_rtol=" << o.patch_rtol;
+  s << "\n";
   // Solver options are left out on purpose: a run stopped by a failed solve
   // may be resumed with others (then equal to the tolerance, not bitwise).
   return s.str();

@@ -9,6 +9,7 @@
 #include "lem/protocol/break_rule.hpp"
 #include "lem/protocol/checkpoint.hpp"
 #include "lem/protocol/damage_ledger.hpp"
+#include "lem/protocol/local_relaxation.hpp"
 #include "lem/protocol/preconditioner_policy.hpp"
 #include "lem/protocol/progress.hpp"
 #include "lem/protocol/recorder.hpp"
@@ -23,6 +24,12 @@ namespace lem {
 
 namespace {
 
+std::unique_ptr<Relaxation> make_relaxation(const RelaxationParts& parts) {
+  if (parts.options.relaxation == RelaxationScheme::local)
+    return std::make_unique<LocalRelaxation>(parts);
+  return std::make_unique<GlobalRelaxation>(parts);
+}
+
 class Protocol {
  public:
   Protocol(DistributedLattice& l, ElasticSystem& s, const FractureOptions& o,
@@ -31,8 +38,8 @@ class Protocol {
         solver_(s, ledger_, {o.rebuild_after_ruptures, o.rebuild_iteration_growth},
                 state_.preconditioner, state_.tally),
         recorder_(l, s, o, provenance), progress_(o, l.mean_bond_length, l.box.length(2)),
-        relaxation_(std::make_unique<GlobalRelaxation>(RelaxationParts{
-            l, s, o, critical_, ledger_, solver_, recorder_, progress_, clock_, state_.tally})),
+        relaxation_(make_relaxation(RelaxationParts{l, s, o, critical_, ledger_, solver_,
+                                                    recorder_, progress_, clock_, state_.tally})),
         checkpoint_(l, o.output_dir + "/checkpoint.bin", fracture_fingerprint(l, o)) {}
 
   FractureResult run();

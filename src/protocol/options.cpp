@@ -11,6 +11,10 @@ const char* name_of(BreakRule rule) {
   return rule == BreakRule::all ? "all" : "most_critical";
 }
 
+const char* name_of(RelaxationScheme scheme) {
+  return scheme == RelaxationScheme::global ? "global" : "local";
+}
+
 FractureOptions read_fracture_options(MPI_Comm comm) {
   FractureOptions o;
   {
@@ -41,6 +45,27 @@ FractureOptions read_fracture_options(MPI_Comm comm) {
         "-fracture_pc_rebuild_growth", "Rebuild the preconditioner when a relaxation solve "
         "takes more than this times the iterations of the first one after the last build (0: "
         "never for this reason)", o.rebuild_iteration_growth, 0.0, 1e6);
+  }
+  {
+    OptionGroup g(comm, "Relaxation after ruptures (docs/fracture.md)");
+    o.relaxation = g.choice("-fracture_relaxation", "global: every relaxation cycle is a global "
+                            "solve (the reference); local: relax patches around the new "
+                            "ruptures first, break the bonds they certify, and solve globally "
+                            "to confirm", {"global", "local"}, "global") == "global"
+                       ? RelaxationScheme::global
+                       : RelaxationScheme::local;
+    o.patch_radius = g.real("-fracture_patch_radius", "local: a patch holds the nodes within "
+                            "this many mean bond lengths a of the ruptures of the last batch",
+                            o.patch_radius, 1.0, 100.0);
+    o.patch_margin = g.real("-fracture_patch_margin", "local: a patch field breaks a bond only "
+                            "when its force exceeds (1 + margin) times its threshold (margin: "
+                            "a bound on the patch error); nearer bonds wait for the global solve",
+                            o.patch_margin, 0.0, 10.0, true);
+    o.patch_max_fraction = g.real("-fracture_patch_max_fraction", "local: a patch with more "
+                                  "than this fraction of the free nodes is solved globally",
+                                  o.patch_max_fraction, 0.0, 1.0, true);
+    o.patch_rtol = g.real("-fracture_patch_rtol", "local: relative tolerance of the patch "
+                          "solves (CG, options prefix -patch_)", o.patch_rtol, 0.0, 0.1, true);
   }
   {
     OptionGroup g(comm, "Threshold disorder (seeded; the same on any rank count)");

@@ -18,12 +18,23 @@ PetscLogStage rupture_stage() {
 }
 }  // namespace
 
-GlobalRelaxation::GlobalRelaxation(const RelaxationParts& parts)
-    : p_(parts), pieces_(parts.lattice) {}
+Relaxation::Relaxation(const RelaxationParts& parts) : p_(parts), pieces_(parts.lattice) {}
 
-bool GlobalRelaxation::pin_loose_pieces() {
-  // Pinned rows trade their bonds for a diagonal of the same size: the kept
-  // preconditioner stays usable (a failure would retry with a new one).
+bool Relaxation::break_batch(const std::vector<Rupture>& batch, std::int64_t step, int cycle,
+                             double strain) {
+  LEM_PETSC(PetscLogStagePush(rupture_stage()));
+  p_.ledger.open_batch();
+  std::vector<std::int64_t> ids;
+  ids.reserve(batch.size());
+  for (const Rupture& x : batch) {
+    ids.push_back(x.id);
+    p_.tally.broken[x.phase] += 1;
+    p_.recorder.rupture(step, cycle, strain, x);
+  }
+  p_.ledger.break_bonds(ids);
+  // Pieces cut loose: pin them.  Pinned rows trade their bonds for a
+  // diagonal of the same size, so the kept preconditioner stays usable (a
+  // failure would retry with a new one).
   const PieceReport pieces = pieces_.find();
   // Every rank must list the same nodes: gather the owned ones.
   std::vector<std::int64_t> owned_loose;
@@ -36,44 +47,34 @@ bool GlobalRelaxation::pin_loose_pieces() {
     p_.tally.pinned_nodes += static_cast<std::int64_t>(loose.size());
   }
   p_.tally.pieces = pieces.pieces;
+  p_.system.finish_updates();
+  LEM_PETSC(PetscLogStagePop());
+  p_.solver.note_ruptures(static_cast<std::int64_t>(batch.size()));
   return pieces.faces_joined;
+}
+
+bool Relaxation::stress_fell(double stress_before) const {
+  return p_.options.stop_within_step &&
+         p_.system.response().stress_zz <
+             p_.options.stop_fraction * std::max(p_.tally.peak_stress, stress_before);
 }
 
 RelaxationOutcome GlobalRelaxation::relax(std::int64_t step, double top_displacement,
                                           double strain, double stress_before) {
   RelaxationOutcome out;
   for (;;) {
-    LEM_PETSC(PetscLogStagePush(rupture_stage()));
     const std::vector<Rupture> critical = p_.critical.find(p_.system.bond_tensions());
-    if (critical.empty()) {
-      LEM_PETSC(PetscLogStagePop());
-      break;
-    }
-    p_.ledger.open_batch();
-    std::vector<std::int64_t> ids;
-    ids.reserve(critical.size());
-    for (const Rupture& x : critical) {
-      ids.push_back(x.id);
-      p_.tally.broken[x.phase] += 1;
-      p_.recorder.rupture(step, out.cycles, strain, x);
-    }
+    if (critical.empty()) break;
+    const bool joined = break_batch(critical, step, out.cycles, strain);
     out.broken += static_cast<std::int64_t>(critical.size());
-    p_.ledger.break_bonds(ids);
-    const bool faces_joined = pin_loose_pieces();
-    p_.system.finish_updates();
-    LEM_PETSC(PetscLogStagePop());
-    p_.solver.note_ruptures(static_cast<std::int64_t>(critical.size()));
     p_.solver.solve(top_displacement, true);
     out.cycles += 1;
     p_.progress.relaxing(step, out.cycles, out.broken, p_.clock.elapsed());
-    if (!faces_joined) {
+    if (!joined) {
       out.disconnected = true;
       break;
     }
-    if (p_.options.stop_within_step &&
-        p_.system.response().stress_zz <
-            p_.options.stop_fraction * std::max(p_.tally.peak_stress, stress_before))
-      break;  // the run ends after this step (the stress check of the protocol)
+    if (stress_fell(stress_before)) break;  // the run ends after this step
   }
   if (out.broken > 0) p_.recorder.flush_ruptures();
   return out;

@@ -521,4 +521,59 @@ TensionResponse ElasticSystem::response() const {
   return r;
 }
 
+SolveReport ElasticSystem::relax_patch(const std::vector<int>& owned_nodes, double rtol) {
+  const MPI_Comm comm = lattice_.comm;
+  SolveReport report;
+  const double t0 = MPI_Wtime();
+  // Out-of-balance forces of the current state.
+  assemble_rhs(current_displacement_);
+  Vec r = nullptr;
+  LEM_PETSC(VecDuplicate(b_, &r));
+  LEM_PETSC(MatMult(K_, u_, r));
+  LEM_PETSC(VecAYPX(r, -1.0, b_));
+  std::vector<PetscInt> rows;
+  for (int n : owned_nodes)
+    for (int a = 0; a < 3; ++a)
+      if (!fixed(lattice_.dof_flags[n], a))
+        rows.push_back(3 * static_cast<PetscInt>(lattice_.global_index[n]) + a);
+  IS is = nullptr;
+  LEM_PETSC(ISCreateGeneral(comm, static_cast<PetscInt>(rows.size()), rows.data(),
+                            PETSC_COPY_VALUES, &is));
+  Mat patch = nullptr;
+  LEM_PETSC(MatCreateSubMatrix(K_, is, is, MAT_INITIAL_MATRIX, &patch));
+  Vec rhs = nullptr, du = nullptr;
+  LEM_PETSC(VecGetSubVector(r, is, &rhs));
+  LEM_PETSC(VecDuplicate(rhs, &du));
+  KSP ksp = nullptr;
+  LEM_PETSC(KSPCreate(comm, &ksp));
+  LEM_PETSC(KSPSetOptionsPrefix(ksp, "patch_"));
+  LEM_PETSC(KSPSetOperators(ksp, patch, patch));
+  LEM_PETSC(KSPSetType(ksp, KSPCG));
+  PC pc = nullptr;
+  LEM_PETSC(KSPGetPC(ksp, &pc));
+  LEM_PETSC(PCSetType(pc, PCJACOBI));
+  LEM_PETSC(KSPSetTolerances(ksp, rtol, PETSC_DEFAULT, PETSC_DEFAULT, 5000));
+  LEM_PETSC(KSPSetFromOptions(ksp));
+  LEM_PETSC(KSPSolve(ksp, rhs, du));
+  PetscInt its = 0;
+  LEM_PETSC(KSPGetIterationNumber(ksp, &its));
+  LEM_PETSC(KSPGetConvergedReason(ksp, &report.reason));
+  report.iterations = static_cast<int>(its);
+  LEM_PETSC(VecRestoreSubVector(r, is, &rhs));
+  if (report.reason > 0) {
+    Vec u_patch = nullptr;
+    LEM_PETSC(VecGetSubVector(u_, is, &u_patch));
+    LEM_PETSC(VecAXPY(u_patch, 1.0, du));
+    LEM_PETSC(VecRestoreSubVector(u_, is, &u_patch));
+    update_ghosts();
+  }
+  LEM_PETSC(KSPDestroy(&ksp));
+  LEM_PETSC(VecDestroy(&du));
+  LEM_PETSC(MatDestroy(&patch));
+  LEM_PETSC(ISDestroy(&is));
+  LEM_PETSC(VecDestroy(&r));
+  report.solve_seconds = MPI_Wtime() - t0;
+  return report;
+}
+
 }  // namespace lem

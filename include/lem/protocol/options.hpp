@@ -16,6 +16,10 @@ inline constexpr int kBondPhases = 5;  // p, m, v, pp, pm (lem::Phase order)
 enum class BreakRule { all, most_critical };  // all: the paper's rule
 const char* name_of(BreakRule rule);
 
+/// How a load step is relaxed after ruptures (relaxation.hpp).
+enum class RelaxationScheme { global, local };  // global: every cycle a global solve
+const char* name_of(RelaxationScheme scheme);
+
 /// Random factor on the breaking thresholds.
 enum class ThresholdDisorder { none, uniform, weibull };
 
@@ -28,6 +32,11 @@ struct FractureOptions {
   bool stop_within_step = false;     // test the stop fraction after every relaxation
                                      // cycle (calibration: only the peak matters)
   std::int64_t max_steps = 1000000;
+  RelaxationScheme relaxation = RelaxationScheme::global;
+  double patch_radius = 5.0;         // local: patch = nodes within this many a of new ruptures
+  double patch_margin = 0.05;        // local: a patch field breaks a bond only above (1 + margin) f
+  double patch_max_fraction = 0.2;   // local: larger patches are solved globally
+  double patch_rtol = 1e-6;          // local: patch solves to this fraction of their residual
   std::int64_t rebuild_after_ruptures = 2000;  // 0: never by count
   double rebuild_iteration_growth = 2.5;       // 0: never by iterations
   // Threshold disorder: f *= factor(seed, bond id) for the phases listed.

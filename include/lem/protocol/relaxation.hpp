@@ -43,28 +43,36 @@ struct RelaxationParts {
 
 class Relaxation {
  public:
+  explicit Relaxation(const RelaxationParts& parts);
   virtual ~Relaxation() = default;
   /// Starting from an equilibrium at `top_displacement`, break and relax
   /// until no bond is critical in the global field, the faces separate, or
   /// (options.stop_within_step) the stress falls below the stop level.
-  /// Collective.
+  /// Ends on a global equilibrium.  Collective.
   virtual RelaxationOutcome relax(std::int64_t step, double top_displacement, double strain,
                                   double stress_before) = 0;
-};
 
-class GlobalRelaxation : public Relaxation {
- public:
-  explicit GlobalRelaxation(const RelaxationParts& parts);
-  RelaxationOutcome relax(std::int64_t step, double top_displacement, double strain,
-                          double stress_before) override;
-
- private:
-  /// Pin the pieces cut loose by the last batch; returns whether some piece
-  /// still joins the faces.
-  bool pin_loose_pieces();
+ protected:
+  /// Break `batch` as one numbered batch (generation `cycle` of this load
+  /// step), pin the pieces it cut loose.  Returns whether some piece still
+  /// joins the faces.  Collective.
+  bool break_batch(const std::vector<Rupture>& batch, std::int64_t step, int cycle,
+                   double strain);
+  /// options.stop_within_step and the stress has fallen below the stop level.
+  bool stress_fell(double stress_before) const;
 
   RelaxationParts p_;
+
+ private:
   PieceFinder pieces_;
+};
+
+/// The paper's cycle: every relaxation is a global solve.
+class GlobalRelaxation : public Relaxation {
+ public:
+  using Relaxation::Relaxation;
+  RelaxationOutcome relax(std::int64_t step, double top_displacement, double strain,
+                          double stress_before) override;
 };
 
 }  // namespace lem

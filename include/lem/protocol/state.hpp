@@ -22,6 +22,13 @@ struct FractureTally {
   std::int64_t fallback_solves = 0;  // multigrid failed, Jacobi-CG solved (ElasticSystem)
   std::int64_t rupture_steps = 0;  // steps with at least one rupture
   std::int64_t relaxation_cycles = 0;
+  // Local relaxation: patch solves, their CG iterations and total free
+  // nodes, patches too large that went global, and the largest force error
+  // of a patch field against the global field that confirmed it (relative
+  // to max(f, mean threshold)).
+  std::int64_t patch_solves = 0, patch_iterations = 0, patch_nodes = 0, patch_overflows = 0;
+  double patch_error_max = 0;
+  std::int64_t patch_disabled_step = 0;  // step at which patches were given up (0: never)
   std::array<std::int64_t, kBondPhases> broken{};  // per phase
   std::int64_t detached_bonds = 0, pinned_nodes = 0;
   std::int64_t pieces = 1;         // connected pieces of unpinned nodes
