@@ -2,6 +2,8 @@
 exponent beta of the node stresses (eq. 2), the strength scaling of eq. 10,
 the damage criterion K_c^r (eqs. 13, 14), Hashin-Shtrikman estimates.
 numpy and scipy only: the figures are drawn elsewhere."""
+import warnings
+
 import numpy as np
 
 RHO_FILLED = 0.28        # rho_f^m of eqs. 6-10 (paper: pores filled at 0.28)
@@ -79,7 +81,7 @@ def fit_eq10(rho, strength):
     """A and k of eq. 10, sigma_eff / sigma^pm = A rho (2 rho_f - rho) / (1 - k rho),
     fitted to `strength` = sigma_eff / sigma^pm at matrix fractions `rho`;
     None with fewer than two distinct fractions or when the fit fails."""
-    from scipy.optimize import curve_fit
+    from scipy.optimize import OptimizeWarning, curve_fit
 
     rho = np.asarray(rho, dtype=float)
     strength = np.asarray(strength, dtype=float)
@@ -89,9 +91,12 @@ def fit_eq10(rho, strength):
     def model(r, a, k):
         return a * r * (2 * RHO_FILLED - r) / (1 - k * r)
     try:
-        # k < 1 / max(rho) keeps the denominator positive over the data
-        (a, k), _ = curve_fit(model, rho, strength, p0=(0.3, 2.5),
-                              bounds=([0, -20], [100, 0.99 / rho.max()]))
+        with warnings.catch_warnings():
+            # as many points as parameters leave no covariance, which is not used
+            warnings.simplefilter("ignore", OptimizeWarning)
+            # k < 1 / max(rho) keeps the denominator positive over the data
+            (a, k), _ = curve_fit(model, rho, strength, p0=(0.3, 2.5),
+                                  bounds=([0, -20], [100, 0.99 / rho.max()]))
     except (RuntimeError, ValueError):
         return None
     residual = strength - model(rho, a, k)

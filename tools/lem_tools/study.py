@@ -41,7 +41,6 @@ from . import cli
 from .errors import ToolError
 from .files import write_json
 from .results import ResultsError, read_json
-from .study_table import gather
 
 TOOLS = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 ROOT = os.path.dirname(TOOLS)
@@ -373,6 +372,14 @@ def do(args):
     if command in ("gather", "all"):
         status = max(status, gather(study))
     return status
+
+
+def gather(study):
+    """The gather step (study_table), imported here so that the other steps,
+    run once per Slurm task, do not load matplotlib."""
+    from .study_table import gather as write_table_and_figures
+
+    return write_table_and_figures(study)
 
 
 def main(argv=None):
