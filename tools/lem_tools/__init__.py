@@ -8,6 +8,7 @@ Modules:
   results        the one reader of result files (CSV, JSON, HDF5)
   analysis       tail exponent beta, eq. 10 fit, K_c^r, estimates (no plotting)
   plotting       matplotlib set-up shared by the figure modules
+  cli            argparse set-up and error reporting shared by the commands
   plot_*         one figure command each
   study          study file, runs, status; the `study.py` command
   study_table    results.csv and fit.json of a study (gather)

@@ -150,7 +150,7 @@ def read_curve(path):
 def read_broken(path):
     """Broken bonds of lem_fracture: midpoints (n x 3), phase names, thresholds."""
     table = read_csv(path, BROKEN_COLUMNS)
-    xyz = np.column_stack([table.numbers(c) for c in "xyz"]) if len(table) else np.zeros((0, 3))
+    xyz = np.column_stack([table.numbers(c) for c in "xyz"])
     phase = np.array([p.strip() for p in table.text("phase")], dtype=object)
     return xyz, phase, table.numbers("threshold")
 
