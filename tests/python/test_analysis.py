@@ -1,0 +1,110 @@
+"""Analysis functions on synthetic data with known answers."""
+import numpy as np
+import pytest
+
+from conftest import cube_lattice
+from lem_tools import analysis
+
+PAPER_PHASES = {"E_p": 3.0, "E_m": 1.0, "E_pp": 1.0, "E_pm": 1.0, "sigma_p": 0.01}
+
+
+def test_tail_exponent_recovers_beta_of_a_sampled_exponential_tail():
+    rng = np.random.default_rng(1)
+    beta = 1.6
+    body = rng.uniform(-1.0, 1.0, 30000)                    # below the tail start
+    tail = analysis.TAIL_START + rng.exponential(1 / beta, 20000)
+    fit = analysis.tail_exponent(np.concatenate([body, tail]))
+    assert fit["tail_nodes"] == 20000
+    # the ML estimate has a relative spread 1/sqrt(n) = 0.7 %
+    assert fit["beta"] == pytest.approx(beta, rel=0.03)
+    assert fit["beta_histogram_fit"] == pytest.approx(beta, rel=0.15)
+
+
+def test_tail_exponent_needs_enough_tail_nodes():
+    s = np.concatenate([np.zeros(1000), 1.5 * np.ones(analysis.MIN_TAIL_NODES - 1)])
+    assert analysis.tail_exponent(s) is None
+
+
+def eq10(rho, a, k):
+    return a * rho * (2 * analysis.RHO_FILLED - rho) / (1 - k * rho)
+
+
+def test_eq10_fit_recovers_a_and_k():
+    rho = np.repeat([0.06, 0.1, 0.13, 0.17, 0.22, 0.28], 3)
+    fit = analysis.fit_eq10(rho, eq10(rho, 0.3, 2.5))
+    assert fit["A"] == pytest.approx(0.3, rel=1e-6)
+    assert fit["k"] == pytest.approx(2.5, rel=1e-6)
+    assert fit["rms_relative_residual"] < 1e-6
+    assert fit["points"] == len(rho)
+
+
+def test_eq10_fit_with_noise():
+    rng = np.random.default_rng(2)
+    rho = np.repeat([0.06, 0.1, 0.13, 0.17, 0.22, 0.28], 9)
+    strength = eq10(rho, 0.3, 2.5) * (1 + 0.01 * rng.standard_normal(rho.size))
+    fit = analysis.fit_eq10(rho, strength)
+    assert fit["A"] == pytest.approx(0.3, rel=0.05)
+    assert fit["k"] == pytest.approx(2.5, rel=0.05)
+    assert fit["rms_relative_residual"] == pytest.approx(0.01, rel=0.3)
+
+
+def test_eq10_fit_needs_two_matrix_fractions():
+    assert analysis.fit_eq10([0.13, 0.13], [0.2, 0.3]) is None
+
+
+def test_eq14_frontier_is_where_k_c_r_reaches_the_limit():
+    for e_eff in (0.05, 0.2, 0.6):
+        ratio = analysis.eq14_frontier(e_eff, PAPER_PHASES)
+        assert analysis.k_c_r_eq14(e_eff, ratio, PAPER_PHASES) == \
+            pytest.approx(analysis.K_DAMAGE_LIMIT, rel=1e-12)
+
+
+def test_k_c_r_eq14_value():
+    # sqrt(0.5 * 3 / 1 * 0.6) = sqrt(0.9)
+    assert analysis.k_c_r_eq14(0.5, 0.6, PAPER_PHASES) == pytest.approx(0.9 ** 0.5)
+
+
+def test_share_without_bare_contacts():
+    assert analysis.share_without_bare_contacts(5, 30, 10) == 0.25
+    assert analysis.share_without_bare_contacts(0, 4, 4) == 0.0  # only bare contacts
+
+
+def test_group_by_rho_orders_fractions_and_ratios():
+    rows = [{"rho_m": 0.2, "sigma_pm_ratio": 1.2}, {"rho_m": 0.1, "sigma_pm_ratio": 0.8},
+            {"rho_m": 0.2, "sigma_pm_ratio": 0.4}]
+    groups = analysis.group_by_rho(rows)
+    assert list(groups) == [0.1, 0.2]
+    assert [r["sigma_pm_ratio"] for r in groups[0.2]] == [0.4, 1.2]
+
+
+def test_hashin_shtrikman_limits():
+    assert analysis.hashin_shtrikman(0.3, 1.0) == pytest.approx(1.0)   # one material
+    assert analysis.hashin_shtrikman(0.0, 10.0) == pytest.approx(1.0)  # no inclusion
+    assert analysis.hashin_shtrikman(1.0, 10.0) == pytest.approx(10.0)  # all inclusion
+    stiff, pores = analysis.hashin_shtrikman(0.2, 10.0), analysis.hashin_shtrikman(0.2, 0.0)
+    assert 1.0 < stiff < 0.8 + 0.2 * 10.0    # below the Voigt bound
+    assert 0.0 < pores < 0.8
+
+
+def test_node_stress_statistics_of_a_uniform_field():
+    coords, volume = cube_lattice(4)
+    stress = np.zeros((len(coords), 6))
+    stress[:, analysis.ZZ] = 2.0
+    stress[:3] = 0.0  # unbonded nodes carry no stress
+    statistics, s, loaded = analysis.node_stress_statistics(
+        {"coords": coords, "stress": stress, "volume": volume, "applied": 2.0, "strain": 1e-5})
+    assert statistics["nodes"] == 64 and statistics["loaded_nodes"] == 61
+    assert loaded.sum() == 61 and np.all(s == 1.0)
+    # 61 of 64 equal volumes carry the applied stress
+    assert statistics["volume_average_stress_zz"] == pytest.approx(2.0 * 61 / 64)
+    assert statistics["volume_average_relative_gap"] == pytest.approx(3 / 64)
+    assert statistics["tensile_share"] == 1.0
+    assert statistics["tail"] is None  # no node above s = 1
+
+
+def test_mid_plane_map_takes_the_nearest_node():
+    coords = np.array([[0.0, 0.5, 0.5], [1.0, 0.5, 0.5]])
+    image, extent = analysis.mid_plane_map(coords, np.array([-1.0, 1.0]), np.zeros(3),
+                                           np.ones(3), pixels=10)
+    assert image.shape == (10, 10) and extent == (0.0, 1.0, 0.0, 1.0)
+    assert np.all(image[:, :5] == -1.0) and np.all(image[:, 5:] == 1.0)

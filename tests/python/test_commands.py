@@ -1,0 +1,172 @@
+"""The command-line scripts in tools/ and the package's structure."""
+import ast
+import glob
+import json
+import os
+import re
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from conftest import TOOLS, cube_lattice, write_elastic
+from lem_tools import phases
+
+SCRIPTS = sorted(glob.glob(os.path.join(TOOLS, "*.py")))
+PACKAGE = os.path.join(TOOLS, "lem_tools")
+ROOT = os.path.dirname(TOOLS)
+
+
+def run_script(name, *args):
+    return subprocess.run([sys.executable, os.path.join(TOOLS, name), *args],
+                          capture_output=True, text=True, timeout=120)
+
+
+def test_the_scripts_are_there():
+    assert [os.path.basename(s) for s in SCRIPTS] == [
+        "plot_bridge_geometry.py", "plot_convergence.py", "plot_fracture.py",
+        "plot_stiffness.py", "plot_stress.py", "plot_tension.py", "study.py",
+        "study_figures.py"]
+
+
+@pytest.mark.parametrize("script", [os.path.basename(s) for s in SCRIPTS])
+def test_help_exits_0(script):
+    done = run_script(script, "--help")
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.startswith("usage: " + script)
+    assert done.stderr == ""
+
+
+@pytest.mark.parametrize("script", ["plot_fracture.py", "plot_stress.py", "plot_tension.py",
+                                    "plot_stiffness.py", "plot_convergence.py"])
+def test_missing_results_give_one_error_line(script, tmp_path):
+    done = run_script(script, str(tmp_path / "none"))
+    assert done.returncode == 1
+    assert re.fullmatch(re.escape(script) + r": error: [^\n]*none[^\n]*\n", done.stderr), \
+        done.stderr
+
+
+def test_wrong_argument_count_is_a_usage_error():
+    done = run_script("plot_fracture.py")
+    assert done.returncode == 2 and "the following arguments are required" in done.stderr
+    done = run_script("plot_convergence.py", "a", "b")
+    assert done.returncode == 2 and "needs both RESULTS_DIR_2 and LABEL_2" in done.stderr
+
+
+def test_plot_fracture_draws_a_run(fracture_dir):
+    done = run_script("plot_fracture.py", fracture_dir + "/")
+    assert done.returncode == 0, done.stderr
+    assert done.stdout == "wrote %s/fracture.png\n" % fracture_dir
+    with open(os.path.join(fracture_dir, "fracture.png"), "rb") as f:
+        assert f.read(8) == b"\x89PNG\r\n\x1a\n"
+
+
+def test_plot_fracture_reports_a_broken_table(fracture_dir):
+    with open(os.path.join(fracture_dir, "curve.csv"), "a") as f:
+        f.write("4,0.1\n")
+    done = run_script("plot_fracture.py", fracture_dir)
+    assert done.returncode == 1
+    assert "curve.csv: line 6 has 2 fields" in done.stderr
+    assert not os.path.exists(os.path.join(fracture_dir, "fracture.png"))
+
+
+def test_plot_stress_fits_the_tail_and_writes_stress_json(tmp_path):
+    coords, volume = cube_lattice(30)
+    rng = np.random.default_rng(3)
+    applied, beta = 1e-3, 2.0
+    s = np.where(rng.random(len(coords)) < 0.5, rng.uniform(0, 1, len(coords)),
+                 1 + rng.exponential(1 / beta, len(coords)))
+    stress = np.zeros((len(coords), 6))
+    stress[:, 5] = s * applied
+    write_elastic(str(tmp_path / "elastic.h5"), coords, stress, volume, applied)
+    done = run_script("plot_stress.py", str(tmp_path))
+    assert done.returncode == 0, done.stderr
+    with open(tmp_path / "stress.json") as f:
+        result = json.load(f)
+    assert result["tail"]["beta"] == pytest.approx(beta, rel=0.05)
+    assert result["loaded_nodes"] == len(coords)
+    assert result["volume_average_stress_zz"] == pytest.approx(applied * s.mean())
+    assert os.path.exists(tmp_path / "stress.png")
+    assert sorted(os.listdir(tmp_path)) == ["elastic.h5", "stress.json", "stress.png"]
+
+
+def test_study_command_line(tmp_path):
+    path = tmp_path / "s.yaml"
+    path.write_text("name: t\nranks: 1\nmatrix_fractions: [0.13]\nsigma_pm_ratios: [0.6]\n")
+    done = run_script("study.py", "plan", str(path), str(tmp_path / "out"))
+    assert done.returncode == 0, done.stderr
+    assert "1 samples x 1 sigma^pm = 1 runs" in done.stdout
+    assert os.path.exists(tmp_path / "out" / "study.json")
+    done = run_script("study.py", "plan", str(path), str(tmp_path / "out"), "--ranks", "0")
+    assert done.returncode == 1
+    assert done.stderr == "study.py: error: --ranks 0 is not a positive integer\n"
+    done = run_script("study.py", "plan", str(path), str(tmp_path / "out"), "--ranks", "true")
+    assert done.returncode == 2 and "invalid int value: 'true'" in done.stderr
+    done = run_script("study.py", "plans", str(path), str(tmp_path / "out"))
+    assert done.returncode == 2 and "invalid choice: 'plans'" in done.stderr
+    done = run_script("study.py", "status", str(path), str(tmp_path / "out"))
+    assert done.returncode == 1 and "0 complete, 0 failed, 1 pending" in done.stdout
+
+
+def package_imports():
+    """{module: modules of lem_tools it imports}, read from the source."""
+    graph = {}
+    for path in glob.glob(os.path.join(PACKAGE, "*.py")):
+        name = os.path.splitext(os.path.basename(path))[0]
+        with open(path) as f:
+            tree = ast.parse(f.read())
+        found = set()
+        for node in ast.walk(tree):
+            if isinstance(node, ast.ImportFrom) and node.level == 1:
+                found |= {node.module} if node.module else {a.name for a in node.names}
+            elif isinstance(node, ast.ImportFrom) and node.module and \
+                    node.module.startswith("lem_tools"):
+                found.add(node.module.partition(".")[2] or node.names[0].name)
+        graph[name] = found
+    return graph
+
+
+def test_no_import_circle():
+    graph = package_imports()
+    assert "study" in graph and "study_table" in graph["study"]
+    done, visiting = set(), []
+
+    def visit(module):
+        assert module not in visiting, "import circle: " + " -> ".join(visiting + [module])
+        if module in done:
+            return
+        visiting.append(module)
+        for imported in graph.get(module, ()):
+            visit(imported)
+        visiting.pop()
+        done.add(module)
+    for module in graph:
+        visit(module)
+
+
+def test_analysis_reading_and_study_steps_do_not_load_matplotlib():
+    code = ("import sys; import lem_tools.analysis, lem_tools.results, lem_tools.files, "
+            "lem_tools.study; print('matplotlib' in sys.modules)")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          env=dict(os.environ, PYTHONPATH=TOOLS), timeout=60)
+    assert done.stdout.strip() == "False", done.stderr
+
+
+def test_no_sys_path_edits():
+    for path in SCRIPTS + glob.glob(os.path.join(PACKAGE, "*.py")):
+        with open(path) as f:
+            assert "sys.path" not in f.read(), path
+
+
+def test_phase_names_follow_the_cpp_enum():
+    headers = glob.glob(os.path.join(ROOT, "include", "**", "*.hpp"), recursive=True)
+    for header in headers:
+        with open(header) as f:
+            match = re.search(r"enum class Phase\b[^{]*\{([^}]*)\}", f.read())
+        if match:
+            break
+    else:
+        pytest.fail("enum class Phase not found under include/: update this test and phases.py")
+    order = [re.match(r"\s*(\w+)\s*=\s*(\d+)", e).groups() for e in match.group(1).split(",")]
+    assert tuple(name for name, _ in sorted(order, key=lambda e: int(e[1]))) == phases.PHASES

@@ -1,0 +1,192 @@
+"""Study files, run states and the gather step on a study made here."""
+import csv
+import json
+import math
+import os
+
+import pytest
+
+from conftest import write_curve
+from lem_tools import results, study
+from lem_tools.study import Study, StudyError, load_study
+
+BASE = """name: t
+ranks: 1
+sample: {sample_particles: 8, lattice_bonds: 6000}
+matrix_fractions: [0.13, 0.24]
+sigma_pm_ratios: [0.4, 1.2]
+"""
+
+
+def study_file(tmp_path, text=BASE, name="s.yaml"):
+    path = tmp_path / name
+    path.write_text(text)
+    return str(path)
+
+
+def test_valid_study_gets_the_defaults(tmp_path):
+    spec = load_study(study_file(tmp_path, BASE.replace("ranks: 1\n", "")))
+    assert spec["ranks"] == 2
+    assert spec["phases"] == study.PHASE_KEYS
+    assert spec["matrix_fractions"] == [0.13, 0.24]
+    assert spec["fracture"] == {}
+
+
+@pytest.mark.parametrize("change, message", [
+    (("ranks: 1", "ranks: true"), "ranks must be a positive integer, not True"),
+    (("ranks: 1", "ranks: 1.5"), "ranks must be a positive integer, not 1.5"),
+    (("ranks: 1", "ranks: 0"), "ranks must be a positive integer"),
+    (("[0.4, 1.2]", "[0.4, true]"), "sigma_pm_ratios value True is not a number"),
+    (("[0.13, 0.24]", "[0.13, .nan]"), "matrix_fractions value nan is not a number"),
+    (("[0.13, 0.24]", "[0.13, 0.9]"), r"matrix_fractions value 0.9 outside \(0, 0.5\]"),
+    (("[0.4, 1.2]", "[]"), "the grid is empty"),
+    (("[0.4, 1.2]", "[0.4, 0.4]"), "sigma_pm_ratios has repeated values"),
+    (("name: t", "name: t\nphases: {sigma_p: true}"), "phases.sigma_p must be a number > 0"),
+    (("name: t", "name: t\nphases: {E_p: .inf}"), "phases.E_p must be a number > 0"),
+    (("name: t", "name: t\nphases: {E_p: -3}"), "phases.E_p must be a number > 0"),
+    (("name: t", "name: t\nphases: {E_x: 3}"), "phases accepts only"),
+    (("name: t", "name: t\nfracture_options: {}"), r"unknown key\(s\) fracture_options"),
+    (("name: t", "name: t\nfracture: {output_dir: x}"), "output_dir are set by the study"),
+    (("name: t", "name: t\nfracture: {ksp_type: [cg]}"), "fracture.ksp_type must be a single"),
+    (("sample: {sample_particles: 8, lattice_bonds: 6000}", "sample: 3"),
+     "sample must be a mapping"),
+])
+def test_bad_study_files_are_refused(tmp_path, change, message):
+    text = BASE.replace(*change)
+    assert text != BASE
+    with pytest.raises(StudyError, match=message):
+        load_study(study_file(tmp_path, text))
+
+
+def test_unreadable_study_files(tmp_path):
+    with pytest.raises(StudyError, match="cannot read the study file"):
+        load_study(str(tmp_path / "missing.yaml"))
+    with pytest.raises(StudyError, match="not valid YAML"):
+        load_study(study_file(tmp_path, "a: [1,"))
+    with pytest.raises(StudyError, match="expected a mapping"):
+        load_study(study_file(tmp_path, "- 1\n- 2\n"))
+
+
+def test_hash_ignores_the_rank_count_only(tmp_path):
+    one = study.study_hash(load_study(study_file(tmp_path)))
+    assert study.study_hash(load_study(study_file(tmp_path, BASE.replace("ranks: 1", "ranks: 4"),
+                                                  "r.yaml"))) == one
+    assert study.study_hash(load_study(study_file(tmp_path, BASE.replace("0.24", "0.25"),
+                                                  "g.yaml"))) != one
+
+
+def test_options_list():
+    assert study.options_list({"a": True, "b": False, "c": 0.5}) == \
+        ["-a", "true", "-b", "false", "-c", "0.5"]
+
+
+# --- a study whose runs are written here, as lem_fracture would -----------
+A_TRUE, K_TRUE = 0.3, 2.5
+SIGMA_P = 0.01
+
+
+def complete_run(s, run, beta=0.8):
+    d = s.run_dir(run)
+    os.makedirs(d, exist_ok=True)
+    with open(os.path.join(d, "run.json"), "w") as f:
+        json.dump(s.run_record(run), f)
+    rho, ratio = run["rho_m"], run["sigma_pm_ratio"]
+    strength = A_TRUE * rho * (2 * 0.28 - rho) / (1 - K_TRUE * rho)   # eq. 10
+    summary = {"E_eff_over_E_unit": rho, "sigma_eff_over_sigma_unit": 2 * strength,
+               "sigma_eff": strength * ratio * SIGMA_P, "strain_at_peak": 1e-3, "n_b": 0.1,
+               "broken": 20, "broken_p": 2, "broken_m": 3, "broken_pp": 10, "broken_pm": 5,
+               "end_reason": "stress below the stop fraction of the peak", "solves": 7,
+               "seconds": 1.5}
+    with open(os.path.join(d, "summary.json"), "w") as f:
+        json.dump(summary, f)
+    write_curve(os.path.join(d, "curve.csv"), [(1e-4, 0.1, 0.1, 0, 0, 10, 0),
+                                               (2e-4, 0.2, 0.1, 2, 3, 10, 5)])
+    with open(os.path.join(d, "stress.json"), "w") as f:
+        json.dump({"tail": {"beta": beta + rho}}, f)
+
+
+@pytest.fixture
+def made_study(tmp_path):
+    s = Study(study_file(tmp_path), str(tmp_path / "out"), bin_dir=str(tmp_path / "no-bin"))
+    s.plan()
+    return s
+
+
+def test_runs_and_their_states(made_study):
+    runs = made_study.runs()
+    assert [r["id"] for r in runs] == ["rho_0.1300_spm_0.4000", "rho_0.1300_spm_1.2000",
+                                       "rho_0.2400_spm_0.4000", "rho_0.2400_spm_1.2000"]
+    complete_run(made_study, runs[0])
+    os.makedirs(made_study.run_dir(runs[1]))
+    with open(os.path.join(made_study.run_dir(runs[1]), "failed.json"), "w") as f:
+        f.write("{}")
+    assert [made_study.state(r) for r in runs] == ["complete", "failed", "pending", "pending"]
+    # a run of another study in the same place is not complete
+    with open(os.path.join(made_study.run_dir(runs[0]), "run.json"), "w") as f:
+        json.dump(dict(made_study.run_record(runs[0]), study_hash="other"), f)
+    assert made_study.state(runs[0]) == "pending"
+
+
+def test_plan_refuses_another_study_in_the_same_folder(made_study, tmp_path):
+    other = Study(study_file(tmp_path, BASE.replace("0.24", "0.25"), "o.yaml"), made_study.out)
+    with pytest.raises(StudyError, match="holds the results of a different study"):
+        other.plan()
+
+
+def test_gather_writes_the_table_the_fit_and_the_figures(made_study, capsys):
+    for run in made_study.runs():
+        complete_run(made_study, run)
+    assert study.gather(made_study) == 0
+    out = made_study.out
+    table = results.read_study_results(os.path.join(out, "results.csv"))
+    assert table.header == list(results.STUDY_COLUMNS)
+    assert table.text("id") == [r["id"] for r in made_study.runs()]
+    rows = table.records_by("id")
+    row = rows["rho_0.2400_spm_1.2000"]
+    assert float(row["sigma_eff_over_sigma_pm"]) == pytest.approx(
+        A_TRUE * 0.24 * (0.56 - 0.24) / (1 - K_TRUE * 0.24))
+    assert float(row["n_b_without_bare_contacts"]) == 0.2       # 2 / (20 - 10)
+    assert float(row["K_c_r_eq14"]) == pytest.approx((0.24 * 3 * 1.2) ** 0.5)
+    assert float(row["beta"]) == pytest.approx(0.8 + 0.24)
+    with open(os.path.join(out, "fit.json")) as f:
+        fit = json.load(f)
+    assert fit["eq10"]["A"] == pytest.approx(A_TRUE, rel=1e-5)
+    assert fit["eq10"]["k"] == pytest.approx(K_TRUE, rel=1e-5)
+    assert fit["beta_by_rho_m"] == {"0.1300": pytest.approx(0.93), "0.2400": pytest.approx(1.04)}
+    assert fit["complete_runs"] == 4 and fit["missing_runs"] == []
+    for name in ("strength.png", "damage.png", "stiffness_stress.png"):
+        with open(os.path.join(out, "figures", name), "rb") as f:
+            assert f.read(8) == b"\x89PNG\r\n\x1a\n"
+    assert sorted(os.listdir(out)) == ["figures", "fit.json", "results.csv", "runs", "study.json"]
+    assert "gather: 4 runs" in capsys.readouterr().out
+
+
+def test_gather_leaves_out_incomplete_runs(made_study, capsys):
+    runs = made_study.runs()
+    complete_run(made_study, runs[0])
+    complete_run(made_study, runs[3])
+    os.remove(os.path.join(made_study.run_dir(runs[3]), "stress.json"))
+    assert study.gather(made_study) == 1
+    assert "rho_0.1300_spm_1.2000 not complete: left out" in capsys.readouterr().out
+    with open(os.path.join(made_study.out, "results.csv"), newline="") as f:
+        rows = list(csv.DictReader(f))
+    assert [r["id"] for r in rows] == [runs[0]["id"], runs[3]["id"]]
+    assert math.isnan(float(rows[1]["beta"]))
+    with open(os.path.join(made_study.out, "fit.json")) as f:
+        assert json.load(f)["missing_runs"] == [runs[1]["id"], runs[2]["id"]]
+
+
+def test_gather_without_complete_runs_writes_nothing(made_study):
+    assert study.gather(made_study) == 1
+    assert not os.path.exists(os.path.join(made_study.out, "results.csv"))
+
+
+def test_status_command_counts(made_study, capsys):
+    complete_run(made_study, made_study.runs()[2])
+    assert made_study.status() == {"complete": 1, "failed": 0, "pending": 3}
+    assert "1 complete, 0 failed, 3 pending" in capsys.readouterr().out
+
+
+def test_index_out_of_range(made_study):
+    with pytest.raises(StudyError, match="the study has 4 runs"):
+        made_study.run_all(index=4)

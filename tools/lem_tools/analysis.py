@@ -1,0 +1,148 @@
+"""The paper's quantities computed from results (Affes et al. 2012): the tail
+exponent beta of the node stresses (eq. 2), the strength scaling of eq. 10,
+the damage criterion K_c^r (eqs. 13, 14), Hashin-Shtrikman estimates.
+numpy and scipy only: the figures are drawn elsewhere."""
+import warnings
+
+import numpy as np
+
+RHO_FILLED = 0.28        # rho_f^m of eqs. 6-10 (paper: pores filled at 0.28)
+K_WEAKEST_LINK = 0.4     # eq. 13 frontier of fig. 15
+K_DAMAGE_LIMIT = 0.7     # eq. 14 frontier of fig. 15
+TAIL_START = 1.0         # s = sigma_zz^i / sigma_zz where the exponential tail starts
+MIN_TAIL_NODES = 20      # fewer nodes in the tail give no meaningful beta
+ZZ = 5                   # Tensor6 order xx, xy, xz, yy, yz, zz
+
+
+def tail_exponent(s, start=TAIL_START):
+    """beta of P(s) ~ exp(-beta s) above `start`: the maximum-likelihood value
+    1 / mean(s - start), and a least-squares fit of the log-histogram as a
+    check; None when fewer than MIN_TAIL_NODES values lie above `start`."""
+    tail = s[s > start] - start
+    if tail.size < MIN_TAIL_NODES:
+        return None
+    beta_ml = 1.0 / tail.mean()
+    hist, edges = np.histogram(tail, bins=30, range=(0, np.quantile(tail, 0.99)), density=True)
+    centres = 0.5 * (edges[1:] + edges[:-1])
+    ok = hist > 0
+    slope = np.polyfit(centres[ok], np.log(hist[ok]), 1)[0] if ok.sum() > 3 else float("nan")
+    return {"beta": beta_ml, "beta_histogram_fit": -slope, "tail_nodes": int(tail.size),
+            "tail_start": start}
+
+
+def node_stress_statistics(elastic):
+    """What stress.json records about the node stresses of elastic.h5
+    (results.read_elastic), and s = sigma_zz^i / sigma_zz of the loaded nodes.
+    Nodes without any bond (void) carry no stress and are left out of s."""
+    zz = elastic["stress"][:, ZZ]
+    applied = elastic["applied"]
+    loaded = np.any(elastic["stress"] != 0, axis=1)
+    s = zz[loaded] / applied
+    lo, hi = elastic["coords"].min(axis=0), elastic["coords"].max(axis=0)
+    mean_zz = float(np.sum(elastic["volume"] * zz) / np.prod(hi - lo))
+    statistics = {
+        "applied_stress": applied, "strain": elastic["strain"],
+        "volume_average_stress_zz": mean_zz,
+        "volume_average_relative_gap": abs(mean_zz / applied - 1),
+        "nodes": int(zz.size), "loaded_nodes": int(loaded.sum()),
+        "tensile_share": float(np.mean(s > 0)),
+        "s_min": float(s.min()), "s_max": float(s.max()),
+        "tail": tail_exponent(s),
+    }
+    return statistics, s, loaded
+
+
+def mid_plane_map(coords, values, box_lo, box_hi, pixels=400):
+    """The plane y = mid-height in y cut into pixels (`pixels` along the longer
+    side), each taking the value of the node nearest to it in 3D; returns the
+    image and its extent (x0, x1, z0, z1)."""
+    from scipy.spatial import cKDTree
+
+    lx, lz = box_hi[0] - box_lo[0], box_hi[2] - box_lo[2]
+    nx = pixels if lx >= lz else max(1, int(pixels * lx / lz))
+    nz = pixels if lz >= lx else max(1, int(pixels * lz / lx))
+    x = box_lo[0] + (np.arange(nx) + 0.5) * lx / nx
+    z = box_lo[2] + (np.arange(nz) + 0.5) * lz / nz
+    gx, gz = np.meshgrid(x, z)
+    y = 0.5 * (box_lo[1] + box_hi[1])
+    points = np.column_stack([gx.ravel(), np.full(gx.size, y), gz.ravel()])
+    _, nearest = cKDTree(coords).query(points)
+    return values[nearest].reshape(nz, nx), (box_lo[0], box_hi[0], box_lo[2], box_hi[2])
+
+
+def eq10_abscissa(rho, k, rho_filled=RHO_FILLED):
+    """rho (2 rho_f - rho) / (1 - k rho): eq. 10 makes sigma_eff / sigma^pm
+    proportional to it."""
+    rho = np.asarray(rho, dtype=float)
+    return rho * (2 * rho_filled - rho) / (1 - k * rho)
+
+
+def fit_eq10(rho, strength):
+    """A and k of eq. 10, sigma_eff / sigma^pm = A rho (2 rho_f - rho) / (1 - k rho),
+    fitted to `strength` = sigma_eff / sigma^pm at matrix fractions `rho`;
+    None with fewer than two distinct fractions or when the fit fails."""
+    from scipy.optimize import OptimizeWarning, curve_fit
+
+    rho = np.asarray(rho, dtype=float)
+    strength = np.asarray(strength, dtype=float)
+    if len(set(rho)) < 2:
+        return None
+
+    def model(r, a, k):
+        return a * r * (2 * RHO_FILLED - r) / (1 - k * r)
+    try:
+        with warnings.catch_warnings():
+            # as many points as parameters leave no covariance, which is not used
+            warnings.simplefilter("ignore", OptimizeWarning)
+            # k < 1 / max(rho) keeps the denominator positive over the data
+            (a, k), _ = curve_fit(model, rho, strength, p0=(0.3, 2.5),
+                                  bounds=([0, -20], [100, 0.99 / rho.max()]))
+    except (RuntimeError, ValueError):
+        return None
+    residual = strength - model(rho, a, k)
+    return {"A": float(a), "k": float(k), "rho_filled": RHO_FILLED,
+            "rms_relative_residual": float(np.sqrt(np.mean((residual / strength) ** 2))),
+            "points": int(len(rho))}
+
+
+def k_c_r_eq14(e_eff_over_e_unit, sigma_pm_ratio, phases):
+    """K_c^r of eq. 14, with the sample's E_eff as the reference medium."""
+    return float(np.sqrt(e_eff_over_e_unit * phases["E_p"] / phases["E_pm"] * sigma_pm_ratio))
+
+
+def eq14_frontier(e_eff_over_e_unit, phases, k_c_r=K_DAMAGE_LIMIT):
+    """sigma^pm / sigma^p at which K_c^r of eq. 14 equals `k_c_r`."""
+    return k_c_r ** 2 * phases["E_pm"] / phases["E_p"] / e_eff_over_e_unit
+
+
+def share_without_bare_contacts(broken_p, broken, broken_pp):
+    """Share of broken bonds inside the particles, leaving out the bare
+    contacts (sigma^pp = 0) that open at the first step; n_b counts them, as
+    the paper defines it."""
+    return broken_p / max(1, broken - broken_pp)
+
+
+def group_by_rho(rows):
+    """{rho^m: rows sorted by sigma^pm / sigma^p}, in increasing rho^m."""
+    groups = {}
+    for r in rows:
+        groups.setdefault(r["rho_m"], []).append(r)
+    for group in groups.values():
+        group.sort(key=lambda r: r["sigma_pm_ratio"])
+    return dict(sorted(groups.items()))
+
+
+def hashin_shtrikman(fraction, ratio, nu=0.25):
+    """Young's modulus of a two-phase material, normalised by the matrix's:
+    Hashin-Shtrikman with the matrix as reference (lower bound for stiffer
+    inclusions, upper bound for pores); inclusions of modulus `ratio` times
+    the matrix's fill `fraction` of the volume, both of Poisson ratio nu."""
+    k1, m1 = 1.0 / (3 * (1 - 2 * nu)), 1.0 / (2 * (1 + nu))
+    k2, m2 = ratio * k1, ratio * m1
+    f1, f2 = 1 - fraction, fraction
+
+    def inverse(x):
+        return float("inf") if x == 0 else 1.0 / x
+    k = k1 + f2 / (inverse(k2 - k1) + 3 * f1 / (3 * k1 + 4 * m1))
+    m = m1 + f2 / (inverse(m2 - m1) + 6 * f1 * (k1 + 2 * m1) / (5 * m1 * (3 * k1 + 4 * m1)))
+    return 9 * k * m / (3 * k + m)

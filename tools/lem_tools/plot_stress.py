@@ -1,0 +1,87 @@
+"""Node stresses of a cemented sample under tension (Affes et al. 2012, sect. 4).
+
+Reads RESULTS_DIR/elastic.h5 (written by lem_fracture at the first
+equilibrium: node stresses of eq. 1 with their Voronoi volumes) and writes
+  RESULTS_DIR/stress.png   (a) map of sigma_zz^i on the mid-plane y = L/2
+                           (fig. 7), (b) pdf of sigma_zz^i / sigma_zz with the
+                           fitted exponential tail of eq. 2 (fig. 8)
+  RESULTS_DIR/stress.json  beta, the fit range and counts, and the volume
+                           average of sigma_zz^i against the applied stress.
+
+The map shows the cut of the 3D Voronoi cells by the plane: each pixel takes
+the stress of the node nearest to it in 3D.  Nodes without any bond (void
+phase) carry no stress and are left out of the pdf; they are drawn white.
+
+Tail exponent: P(s) ~ exp(-beta s) for s = sigma_zz^i / sigma_zz above 1;
+beta is the maximum-likelihood value 1 / mean(s - 1) of the nodes in the
+tail (a least-squares fit of the log-histogram is printed beside it as a
+check).
+"""
+import os
+
+import matplotlib
+import numpy as np
+
+from . import cli
+from .analysis import TAIL_START, ZZ, mid_plane_map, node_stress_statistics
+from .files import write_json
+from .plotting import plt, save_figure
+from .results import read_elastic
+
+BINS = 80
+
+
+def draw(out):
+    d = read_elastic(os.path.join(out, "elastic.h5"))
+    result, s, loaded = node_stress_statistics(d)
+    zz = d["stress"][:, ZZ]
+    lo, hi = d["coords"].min(axis=0), d["coords"].max(axis=0)
+    fit = result["tail"]
+    relative_mean = result["volume_average_stress_zz"] / d["applied"]
+
+    fig, (ax_map, ax_pdf) = plt.subplots(1, 2, figsize=(12, 5.2))
+    values = np.where(loaded, zz / d["applied"], np.nan)
+    image, extent = mid_plane_map(d["coords"], values, lo, hi)
+    limit = np.nanquantile(np.abs(s), 0.99)
+    cmap = matplotlib.colormaps["RdBu_r"].copy()
+    cmap.set_bad("white")
+    shown = ax_map.imshow(image, origin="lower", extent=extent, cmap=cmap, vmin=-limit,
+                          vmax=limit, interpolation="nearest")
+    fig.colorbar(shown, ax=ax_map, label=r"$\sigma_{zz}^i / \sigma_{zz}$ (tension > 0)")
+    ax_map.set_xlabel("x")
+    ax_map.set_ylabel("z")
+    ax_map.set_title("(a) node stresses on the mid-plane y = %.2f (void white)"
+                     % (0.5 * (lo[1] + hi[1])))
+
+    hist, edges = np.histogram(s, bins=BINS, density=True)
+    centres = 0.5 * (edges[1:] + edges[:-1])
+    ok = hist > 0
+    ax_pdf.semilogy(centres[ok], hist[ok], "o", ms=4, color="black", label="nodes")
+    if fit:
+        share = (s > TAIL_START).mean()
+        xs = np.linspace(TAIL_START, s.max(), 50)
+        # The tail's own density, scaled by its share of the nodes.
+        ax_pdf.semilogy(xs, share * fit["beta"] * np.exp(-fit["beta"] * (xs - TAIL_START)), ":",
+                        color="tab:red", lw=2,
+                        label=r"$\propto e^{-\beta s}$, $\beta$ = %.2f (ML; log-fit %.2f)"
+                        % (fit["beta"], fit["beta_histogram_fit"]))
+    ax_pdf.set_xlabel(r"$s = \sigma_{zz}^i / \sigma_{zz}$")
+    ax_pdf.set_ylabel("pdf")
+    ax_pdf.set_title("(b) pdf of the vertical node stresses (%d loaded nodes)" % loaded.sum())
+    ax_pdf.legend()
+    fig.suptitle(r"%s: first equilibrium, $\varepsilon_{zz}$ = %.2e; volume average of "
+                 r"$\sigma_{zz}^i$ / applied = %.8f"
+                 % (os.path.basename(os.path.abspath(out)), d["strain"], relative_mean))
+    fig.tight_layout()
+    save_figure(fig, os.path.join(out, "stress.png"), dpi=110)
+    write_json(os.path.join(out, "stress.json"), result)
+    print("stress: beta = %s, volume average / applied = %.8f -> %s/stress.png"
+          % ("%.3f" % fit["beta"] if fit else "n/a", relative_mean, out))
+
+
+def main(argv=None):
+    return cli.run_on_folder(__doc__, "output folder of lem_fracture (-output_dir)", draw, argv)
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
