@@ -41,6 +41,10 @@ struct TensionResponse {
   double external_work = 0;     // 1/2 reaction * Delta
 };
 
+/// The KSP of patch solves (relax_patch): CG + Jacobi by default, to `rtol`,
+/// then the -patch_ksp_* / -patch_pc_* options.  The caller destroys it.
+KSP create_patch_solver(MPI_Comm comm, double rtol);
+
 class ElasticSystem {
  public:
   /// Creates the matrix (exact preallocation), vectors and KSP; reads the

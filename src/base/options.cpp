@@ -18,7 +18,7 @@ std::string describe_range(double lo, double hi, bool open_lo, bool open_hi) {
 // Prefixes of options that PETSc itself (or MPI start-up) may consume; they
 // are checked after the first solve, when PETSc has read them.
 const char* const kPetscPrefixes[] = {
-    "ksp_", "pc_", "mat_", "vec_", "fallback_", "log", "options_", "help", "malloc", "info", "on_error",
+    "ksp_", "pc_", "mat_", "vec_", "fallback_", "patch_", "log", "options_", "help", "malloc", "info", "on_error",
     "history", "viewer", "fp_trap", "no_signal_handler", "check_pointer", "memory_view",
     "objects_dump", "skip_petscrc", "start_in_debugger", "debugger", "stop_for_debugger",
     "display", "use_gpu_aware_mpi", "citations", "version", "petsc", "sys", "draw", "nox",

@@ -1,6 +1,7 @@
 #include "lem/protocol/local_relaxation.hpp"
 
 #include "lem/driver.hpp"
+#include "lem/error.hpp"
 #include "lem/tension.hpp"
 
 #include <algorithm>
@@ -31,6 +32,10 @@ LocalRelaxation::LocalRelaxation(const RelaxationParts& parts) : Relaxation(part
     if (l.bond_reported[b] && l.bond_strength[b] > 0) sums[0] += l.bond_strength[b], sums[1] += 1;
   MPI_Allreduce(sums, totals, 2, MPI_DOUBLE, MPI_SUM, l.comm);
   mean_threshold_ = totals[1] > 0 ? totals[0] / totals[1] : 1.0;
+  // Read the -patch_ options now: a misspelt one is then reported after the
+  // first solve, not ignored until the first patch.
+  KSP ksp = create_patch_solver(l.comm, p_.options.patch_rtol);
+  LEM_PETSC(KSPDestroy(&ksp));
 }
 
 std::vector<int> LocalRelaxation::patch_nodes(const std::vector<Rupture>& batch) const {

@@ -521,6 +521,19 @@ TensionResponse ElasticSystem::response() const {
   return r;
 }
 
+KSP create_patch_solver(MPI_Comm comm, double rtol) {
+  KSP ksp = nullptr;
+  LEM_PETSC(KSPCreate(comm, &ksp));
+  LEM_PETSC(KSPSetOptionsPrefix(ksp, "patch_"));
+  LEM_PETSC(KSPSetType(ksp, KSPCG));
+  PC pc = nullptr;
+  LEM_PETSC(KSPGetPC(ksp, &pc));
+  LEM_PETSC(PCSetType(pc, PCJACOBI));
+  LEM_PETSC(KSPSetTolerances(ksp, rtol, PETSC_DEFAULT, PETSC_DEFAULT, 5000));
+  LEM_PETSC(KSPSetFromOptions(ksp));
+  return ksp;
+}
+
 SolveReport ElasticSystem::relax_patch(const std::vector<int>& owned_nodes, double rtol) {
   const MPI_Comm comm = lattice_.comm;
   SolveReport report;
@@ -544,16 +557,8 @@ SolveReport ElasticSystem::relax_patch(const std::vector<int>& owned_nodes, doub
   Vec rhs = nullptr, du = nullptr;
   LEM_PETSC(VecGetSubVector(r, is, &rhs));
   LEM_PETSC(VecDuplicate(rhs, &du));
-  KSP ksp = nullptr;
-  LEM_PETSC(KSPCreate(comm, &ksp));
-  LEM_PETSC(KSPSetOptionsPrefix(ksp, "patch_"));
+  KSP ksp = create_patch_solver(comm, rtol);
   LEM_PETSC(KSPSetOperators(ksp, patch, patch));
-  LEM_PETSC(KSPSetType(ksp, KSPCG));
-  PC pc = nullptr;
-  LEM_PETSC(KSPGetPC(ksp, &pc));
-  LEM_PETSC(PCSetType(pc, PCJACOBI));
-  LEM_PETSC(KSPSetTolerances(ksp, rtol, PETSC_DEFAULT, PETSC_DEFAULT, 5000));
-  LEM_PETSC(KSPSetFromOptions(ksp));
   LEM_PETSC(KSPSolve(ksp, rhs, du));
   PetscInt its = 0;
   LEM_PETSC(KSPGetIterationNumber(ksp, &its));
