@@ -3,10 +3,12 @@
 //
 //   mpirun -n 2 lem_fracture -sample_file meshes/demo.h5 -output_dir results/fracture
 //   mpirun -n 2 lem_fracture -lattice_bonds 200000 -lattice_break_strain 1e-3
+#include "lem/calibration.hpp"
 #include "lem/driver.hpp"
 #include "lem/error.hpp"
 #include "lem/files.hpp"
 #include "lem/fracture.hpp"
+#include "lem/protocol/checkpoint.hpp"
 #include "lem/options.hpp"
 #include "lem/setup.hpp"
 #include "lem/tension_output.hpp"
@@ -24,31 +26,46 @@ static const char help[] =
 
 namespace {
 
-struct Case {
-  lem::FractureResult result;
+// A sample set up for fracture: thresholds of generated lattices, disorder.
+struct Prepared {
+  lem::DistributedLattice lattice;
   lem::SetupReport setup;
   double stress_unit = 1;  // sigma_raw * stress_unit = sigma in E^phase (or k/a) units
 };
 
-// Set up the sample, run the protocol, write the curve and the fields.
-Case run_case(MPI_Comm comm, const lem::SampleOptions& sample, double break_strain,
-              lem::FractureOptions options, const lem::Provenance& provenance,
-              bool write_fields) {
-  Case c;
-  auto lattice = lem::setup_tension_lattice(
-      comm, [&](lem::SampleInfo& info) { return lem::build_sample(sample, info); }, c.setup);
+struct Case {
+  lem::FractureResult result;
+  lem::SetupReport setup;
+  double stress_unit = 1;
+};
+
+Prepared prepare(MPI_Comm comm, const lem::SampleOptions& sample, double break_strain,
+                 const lem::FractureOptions& options) {
+  Prepared p;
+  p.lattice = lem::setup_tension_lattice(
+      comm, [&](lem::SampleInfo& info) { return lem::build_sample(sample, info); }, p.setup);
+  lem::DistributedLattice& lattice = p.lattice;
   // Stress unit: a sample file's bonds have k = E^phase a_s and f =
   // sigma^phase a_s^2, so its stresses are already in E^phase units; a
   // generated lattice's are given in units of k/a (k = -lattice_k).
   const bool from_file = !sample.sample_file.empty();
-  c.stress_unit = from_file ? 1.0 : lattice.mean_bond_length / sample.random.stiffness;
-  options.stress_unit = c.stress_unit;
+  p.stress_unit = from_file ? 1.0 : lattice.mean_bond_length / sample.random.stiffness;
   if (lattice.bond_strength.empty()) {  // generated lattice: f = k a eps_b
     lattice.bond_strength.resize(lattice.bond_stiffness.size());
     for (int b = 0; b < lattice.local_bonds(); ++b)
       lattice.bond_strength[b] = lattice.bond_stiffness[b] * lattice.mean_bond_length * break_strain;
   }
   lem::apply_strength_disorder(lattice, options);
+  return p;
+}
+
+// Run the protocol on a prepared sample, write the fields.
+Case run_case(Prepared p, lem::FractureOptions options, const lem::Provenance& provenance,
+              bool write_fields) {
+  Case c;
+  c.setup = p.setup;
+  c.stress_unit = options.stress_unit = p.stress_unit;
+  lem::DistributedLattice& lattice = p.lattice;
   lem::say("lattice: %lld nodes, %lld bonds in the system, a = %.4g; output %s/\n",
            (long long)c.setup.sample.stats.nodes, (long long)c.setup.active_bonds,
            lattice.mean_bond_length, options.output_dir.c_str());
@@ -63,6 +80,54 @@ Case run_case(MPI_Comm comm, const lem::SampleOptions& sample, double break_stra
   return c;
 }
 
+// sigma^[p] and E^[p]: from the calibration file of this lattice if there is
+// one, else by breaking the homogeneous lattice (and stored for next time).
+lem::Calibration calibrate(MPI_Comm comm, const lem::SampleOptions& sample, double break_strain,
+                           const lem::FractureOptions& options, std::string path,
+                           const lem::Provenance& provenance) {
+  lem::SampleOptions hom = sample;
+  hom.homogeneous = true;
+  lem::FractureOptions hom_options = options;
+  hom_options.output_dir = options.output_dir + "/calibration";
+  hom_options.strength_unit = sample.phases.strength[0];
+  // Only the peak is needed: stop once well past it.
+  hom_options.stop_fraction = std::max(options.stop_fraction, 0.5);
+  hom_options.stop_within_step = true;
+  // -fracture_max_steps bounds the sample run, not its calibration.
+  hom_options.max_steps = lem::FractureOptions{}.max_steps;
+  hom_options.checkpoint_seconds = 0;
+  hom_options.snapshot_steps = 0;
+  hom_options.elastic_fields = false;
+  Prepared p = prepare(comm, hom, break_strain, hom_options);
+  const std::string fingerprint = lem::fracture_fingerprint(p.lattice, hom_options);
+  const bool chosen = !path.empty();
+  if (!chosen)
+    path = std::filesystem::path(sample.sample_file).replace_extension().string() +
+           ".calibration-" + lem::calibration_key(fingerprint) + ".txt";
+  if (const auto stored = lem::read_calibration(comm, path, fingerprint)) {
+    lem::say("calibration: sigma^[p] = %.6g, E^[p] = %.6g (E^phase units) from %s\n",
+             stored->sigma_hom, stored->e_hom, path.c_str());
+    return *stored;
+  }
+  lem::prepare_output_dir(comm, hom_options.output_dir, {"curve.csv", "broken.csv"});
+  lem::say("calibration: the homogeneous lattice (every bond E^p = %g, sigma^p = %g)\n",
+           sample.phases.modulus[0], sample.phases.strength[0]);
+  const Case hom_case = run_case(std::move(p), hom_options, provenance, false);
+  lem::Calibration c;
+  c.sigma_hom = hom_case.result.peak_stress * hom_case.stress_unit;
+  c.e_hom = hom_case.result.young_modulus * hom_case.stress_unit;
+  lem::say("calibration: sigma^[p] = %.6g, E^[p] = %.6g (E^phase units)\n", c.sigma_hom,
+           c.e_hom);
+  try {
+    lem::write_calibration(comm, path, fingerprint, c, provenance);
+    lem::say("calibration: stored in %s\n", path.c_str());
+  } catch (const lem::InputError& e) {
+    if (chosen) throw;
+    lem::say("calibration: not stored (%s)\n", e.what());  // e.g. a read-only sample folder
+  }
+  return c;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -70,15 +135,21 @@ int main(int argc, char** argv) {
     lem::SampleOptions sample = lem::read_sample_options(comm);
     lem::FractureOptions options = lem::read_fracture_options(comm);
     double break_strain = 1e-3, sigma_unit = 0, modulus_unit = 0;
-    bool calibrate = true, fields = true;
+    bool calibrate_first = true, fields = true;
+    std::string calibration_file;
     {
       lem::OptionGroup g(comm, "Fracture run and output");
       break_strain = g.real("-lattice_break_strain", "Generated lattices: a bond breaks when "
                             "stretched by this fraction of the mean bond length (f = k a eps)",
                             1e-3, 0.0, 1.0, true);
-      calibrate = g.flag("-fracture_calibrate", "Sample files: first break the homogeneous "
+      calibrate_first = g.flag("-fracture_calibrate", "Sample files: first break the homogeneous "
                          "lattice of particle bonds to measure sigma^[p] and E^[p] (paper "
                          "sect. 3), written to <output_dir>/calibration/", true);
+      calibration_file = g.string("-fracture_calibration_file", "Sample files: where sigma^[p] "
+                                  "and E^[p] are kept (read if it exists and belongs to this "
+                                  "lattice and these options; written after calibrating); "
+                                  "default: beside the sample file, named by a hash of both",
+                                  "");
       sigma_unit = g.real("-fracture_sigma_unit", "Normalise stresses by this value instead "
                           "(E^phase units; e.g. sigma^[p] from an earlier calibration; 0: "
                           "calibrate or use sigma^p)", 0.0, 0.0, 1e12);
@@ -109,33 +180,18 @@ int main(int argc, char** argv) {
 
     const double e_p = sample.phases.modulus[0], s_p = sample.phases.strength[0];
     double sigma_hom = 0, e_hom = 0;
-    if (from_file && calibrate && sigma_unit == 0 && modulus_unit == 0) {
-      lem::SampleOptions hom = sample;
-      hom.homogeneous = true;
-      lem::FractureOptions hom_options = options;
-      hom_options.output_dir = options.output_dir + "/calibration";
-      hom_options.strength_unit = s_p;
-      // Only the peak is needed: stop once well past it.
-      hom_options.stop_fraction = std::max(options.stop_fraction, 0.5);
-      hom_options.stop_within_step = true;
-      // -fracture_max_steps bounds the sample run, not its calibration.
-      hom_options.max_steps = lem::FractureOptions{}.max_steps;
-      hom_options.checkpoint_seconds = 0;
-      hom_options.snapshot_steps = 0;
-      hom_options.elastic_fields = false;
-      lem::prepare_output_dir(comm, hom_options.output_dir, {"curve.csv", "broken.csv"});
-      lem::say("calibration: the homogeneous lattice (every bond E^p = %g, sigma^p = %g)\n", e_p,
-               s_p);
-      const Case hom_case = run_case(comm, hom, break_strain, hom_options, provenance, false);
-      sigma_hom = hom_case.result.peak_stress * hom_case.stress_unit;
-      e_hom = hom_case.result.young_modulus * hom_case.stress_unit;
-      lem::say("calibration: sigma^[p] = %.6g, E^[p] = %.6g (E^phase units)\n", sigma_hom, e_hom);
+    if (from_file && calibrate_first && sigma_unit == 0 && modulus_unit == 0) {
+      const lem::Calibration c =
+          calibrate(comm, sample, break_strain, options, calibration_file, provenance);
+      sigma_hom = c.sigma_hom;
+      e_hom = c.e_hom;
     }
     options.strength_unit = sigma_unit > 0 ? sigma_unit : sigma_hom > 0 ? sigma_hom
                                                       : from_file ? s_p : 1.0;
     options.modulus_unit = modulus_unit > 0 ? modulus_unit : e_hom > 0 ? e_hom
                                                       : from_file ? e_p : 1.0;
-    const Case c = run_case(comm, sample, break_strain, options, provenance, fields);
+    const Case c =
+        run_case(prepare(comm, sample, break_strain, options), options, provenance, fields);
 
     const lem::FractureResult& r = c.result;
     const double e_eff = r.young_modulus * c.stress_unit, s_eff = r.peak_stress * c.stress_unit;

@@ -118,7 +118,7 @@ std::string fracture_fingerprint(const DistributedLattice& l, const FractureOpti
 }
 
 std::string fingerprint_differences(const std::string& theirs, const std::string& ours,
-                                    int& other_ranks) {
+                                    int& other_ranks, const char* label) {
   auto lines = [](const std::string& text) {
     std::vector<std::string> out;
     std::istringstream in(text);
@@ -134,7 +134,7 @@ std::string fingerprint_differences(const std::string& theirs, const std::string
     if (a[i].rfind("ranks=", 0) == 0 && b[i].rfind("ranks=", 0) == 0)
       other_ranks = std::stoi(a[i].substr(6));
     else
-      differs += "\n  checkpoint: " + a[i] + "   this run: " + b[i];
+      differs += "\n  " + std::string(label) + ": " + a[i] + "   this run: " + b[i];
   }
   return differs;
 }

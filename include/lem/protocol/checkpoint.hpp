@@ -38,11 +38,11 @@ Checkpoint read_checkpoint_file(const std::string& path);
 std::string fracture_fingerprint(const DistributedLattice& lattice,
                                  const FractureOptions& options);
 
-/// Lines of two fingerprints that differ, as "checkpoint: ... this run: ..."
+/// Lines of two fingerprints that differ, as "<label>: ... this run: ..."
 /// (empty when they match).  The rank count may differ: `other_ranks` gets
-/// the checkpoint's when it does (0 otherwise).
+/// theirs when it does (0 otherwise).
 std::string fingerprint_differences(const std::string& theirs, const std::string& ours,
-                                    int& other_ranks);
+                                    int& other_ranks, const char* label = "checkpoint");
 
 /// While alive, SIGTERM and SIGUSR1 only raise a flag; requested() asks
 /// every rank whether any got one.

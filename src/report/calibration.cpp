@@ -1,0 +1,90 @@
+#include "lem/calibration.hpp"
+
+#include "lem/byte_stream.hpp"
+#include "lem/error.hpp"
+#include "lem/files.hpp"
+#include "lem/protocol/checkpoint.hpp"
+
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+namespace lem {
+
+namespace {
+
+// The fingerprint without the "ranks=" line: a calibration holds on any
+// rank count (to the solver tolerance).
+std::string without_ranks(const std::string& fingerprint) {
+  std::istringstream in(fingerprint);
+  std::string kept;
+  for (std::string line; std::getline(in, line);)
+    if (line.rfind("ranks=", 0) != 0) kept += line + "\n";
+  return kept;
+}
+
+constexpr const char* kFingerprintLine = "# fingerprint:";
+
+}  // namespace
+
+std::string calibration_key(const std::string& fingerprint) {
+  const std::string text = without_ranks(fingerprint);
+  char hex[17];
+  std::snprintf(hex, sizeof(hex), "%016llx",
+                static_cast<unsigned long long>(fnv1a(text.data(), text.size())));
+  return hex;
+}
+
+std::optional<Calibration> read_calibration(MPI_Comm comm, const std::string& path,
+                                            const std::string& fingerprint) {
+  int found = 0;
+  Calibration c;
+  run_on_root(comm, [&] {
+    std::ifstream in(path);
+    if (!in) return;
+    std::string stored, line;
+    bool have_sigma = false, have_e = false;
+    while (std::getline(in, line)) {
+      if (line.rfind(kFingerprintLine, 0) == 0) {
+        stored += line.substr(std::string(kFingerprintLine).size() + 1) + "\n";
+      } else if (line.rfind("sigma_hom=", 0) == 0) {
+        have_sigma = std::sscanf(line.c_str() + 10, "%lf", &c.sigma_hom) == 1;
+      } else if (line.rfind("E_hom=", 0) == 0) {
+        have_e = std::sscanf(line.c_str() + 6, "%lf", &c.e_hom) == 1;
+      }
+    }
+    if (!have_sigma || !have_e || !(c.sigma_hom > 0) || !(c.e_hom > 0))
+      throw InputError("the calibration file '" + path + "' is damaged (no positive sigma_hom "
+                       "and E_hom); remove it to calibrate again");
+    int other_ranks = 0;
+    const std::string differs =
+        fingerprint_differences(stored, without_ranks(fingerprint), other_ranks, "file");
+    if (!differs.empty())
+      throw InputError("the calibration file '" + path + "' was made for another lattice or "
+                       "other options:" + differs + "\npass the calibration file of this sample, "
+                       "or remove it to calibrate again");
+    found = 1;
+  });
+  MPI_Bcast(&found, 1, MPI_INT, 0, comm);
+  if (!found) return std::nullopt;
+  MPI_Bcast(&c, sizeof(c), MPI_BYTE, 0, comm);
+  return c;
+}
+
+void write_calibration(MPI_Comm comm, const std::string& path, const std::string& fingerprint,
+                       const Calibration& c, const Provenance& provenance) {
+  run_on_root(comm, [&] {
+    std::ostringstream out;
+    out.precision(17);
+    out << "# sigma^[p] and E^[p] of the homogeneous lattice (paper sect. 3), E^phase units;\n"
+        << "# written by " << provenance.program << " " << provenance.version << " ("
+        << provenance.git_hash << ") on " << provenance.ranks << " ranks, "
+        << provenance.start_time << "\n"
+        << "sigma_hom=" << c.sigma_hom << "\nE_hom=" << c.e_hom << "\n";
+    std::istringstream in(without_ranks(fingerprint));
+    for (std::string line; std::getline(in, line);) out << kFingerprintLine << " " << line << "\n";
+    write_text_file_atomically(path, out.str());
+  });
+}
+
+}  // namespace lem
