@@ -16,18 +16,13 @@
 
 #include "lem/lattice.hpp"
 #include "lem/packing.hpp"
+#include "lem/phase.hpp"
 
 #include <cstdint>
 #include <functional>
 #include <vector>
 
 namespace lem {
-
-/// Bond phases of the paper: particle, matrix, void, particle-particle and
-/// particle-matrix interfaces.
-enum class Phase : std::uint8_t { p = 0, m = 1, v = 2, pp = 3, pm = 4 };
-inline constexpr int kPhaseCount = 5;
-const char* phase_name(Phase phase);
 
 struct Bridge {
   std::int32_t i = 0, j = 0;  // particle indices, i < j

@@ -30,11 +30,6 @@ double lambda_for_volume(const Sphere& a, const Sphere& b, double volume, double
 
 }  // namespace
 
-const char* phase_name(Phase phase) {
-  static const char* const names[] = {"p", "m", "v", "pp", "pm"};
-  return names[static_cast<int>(phase)];
-}
-
 std::vector<Bridge> eligible_pairs(const std::vector<Sphere>& particles, double max_gap) {
   std::vector<Bridge> pairs;
   if (particles.empty()) return pairs;
