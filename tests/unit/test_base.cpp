@@ -1,6 +1,7 @@
 // The ground floor at one rank: phases, the atomic writer, exit statuses,
-// PETSc handles, the byte serialiser.
+// PETSc handles, the byte serialiser, the cell grid.
 #include "lem/byte_stream.hpp"
+#include "lem/cell_grid.hpp"
 #include "lem/cemented_sample.hpp"
 #include "lem/error.hpp"
 #include "lem/files.hpp"
@@ -13,6 +14,8 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <random>
+#include <set>
 #include <string>
 
 using namespace lem;
@@ -140,4 +143,44 @@ TEST(ByteStream, RoundTripAndShortInput) {
   EXPECT_TRUE(r.at_end());
   ByteReader short_reader(w.bytes, 4);
   EXPECT_THROW(short_reader.pod(i), std::runtime_error);
+}
+
+TEST(CellGrid, FindsEveryPointWithinTheCellSide) {
+  const Box box{{0.0, -1.0, 2.0}, {1.0, 0.5, 2.3}};  // thinner than a cell along z
+  const double radius = 0.13;
+  std::mt19937_64 g(4);
+  std::uniform_real_distribution<double> u(-0.05, 1.05);  // some points outside the box
+  std::vector<Point> points(400);
+  for (Point& p : points)
+    for (int a = 0; a < 3; ++a) p[a] = box.lo[a] + u(g) * box.length(a);
+  const CellGrid grid(box, radius);
+  std::vector<std::vector<int>> cells(grid.cell_count());
+  for (std::size_t i = 0; i < points.size(); ++i)
+    cells[grid.cell_of(points[i])].push_back(static_cast<int>(i));
+  const auto close = [&](const Point& p, const Point& q) {
+    const double dx = p[0] - q[0], dy = p[1] - q[1], dz = p[2] - q[2];
+    return dx * dx + dy * dy + dz * dz < radius * radius;
+  };
+  for (const Point& p : points) {
+    std::set<int> found, expected;
+    grid.for_each_cell_near(p, [&](std::size_t cell) {
+      for (int q : cells[cell])
+        if (close(p, points[q])) found.insert(q);
+      return true;
+    });
+    for (std::size_t q = 0; q < points.size(); ++q)
+      if (close(p, points[q])) expected.insert(static_cast<int>(q));
+    ASSERT_EQ(found, expected);
+  }
+  // A box registered in every cell it touches is found from any point inside.
+  const Point lo{0.2, -0.4, 2.05}, hi{0.6, 0.1, 2.2};
+  std::set<std::size_t> touched;
+  grid.for_each_cell_touching(lo, hi, [&](std::size_t cell) { touched.insert(cell); });
+  for (const Point& p : points) {
+    bool inside = true;
+    for (int a = 0; a < 3; ++a) inside = inside && p[a] >= lo[a] && p[a] <= hi[a];
+    if (inside) {
+      EXPECT_TRUE(touched.count(grid.cell_of(p)));
+    }
+  }
 }
