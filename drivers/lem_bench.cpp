@@ -15,6 +15,7 @@
 #include "lem/elastic_system.hpp"
 #include "lem/error.hpp"
 #include "lem/options.hpp"
+#include "lem/petsc_handle.hpp"
 #include "lem/setup.hpp"
 
 #include <sys/resource.h>
@@ -170,8 +171,8 @@ int main(int argc, char** argv) {
     print_levels(ksp);
 
     // b = K u reproduces the right-hand side of the problem just solved.
-    Vec x, b;
-    LEM_PETSC(MatCreateVecs(K, &x, &b));
+    lem::VecHandle x, b;
+    LEM_PETSC(MatCreateVecs(K, x.replace(), b.replace()));
     {
       const auto u = sys->owned_displacements();
       PetscScalar* xa = nullptr;
@@ -213,8 +214,8 @@ int main(int argc, char** argv) {
     const double index_rows = blocked ? static_cast<double>(rows) / bs : static_cast<double>(rows);
     const double mm_bytes = info.nz_used * (sizeof(PetscScalar) + sizeof(PetscInt) / (blocked ? bs * bs : 1.0)) +
                             index_rows * sizeof(PetscInt) + 2.0 * rows * sizeof(PetscScalar);
-    LEM_PETSC(VecDestroy(&x));
-    LEM_PETSC(VecDestroy(&b));
+    x.reset();
+    b.reset();
 
     const auto rss = peak_rss_mb(comm);
     const double stream = stream_triad_gbs(comm, stream_mb);

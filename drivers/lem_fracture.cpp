@@ -10,6 +10,7 @@
 #include "lem/fracture.hpp"
 #include "lem/protocol/checkpoint.hpp"
 #include "lem/options.hpp"
+#include "lem/phase.hpp"
 #include "lem/setup.hpp"
 #include "lem/tension_output.hpp"
 
@@ -213,9 +214,10 @@ int main(int argc, char** argv) {
     s.add("final_strain", r.final_strain);
     s.add("final_stress_over_sigma_unit", r.final_stress * c.stress_unit / options.strength_unit);
     s.add("broken", static_cast<long long>(r.broken_total()));
-    const char* names[lem::kBondPhases] = {"p", "m", "v", "pp", "pm"};
-    for (int k = 0; k < lem::kBondPhases; ++k)
-      if (k != 2) s.add(std::string("broken_") + names[k], static_cast<long long>(r.broken[k]));
+    static_assert(lem::kBondPhases == lem::kPhaseCount);
+    for (int k = 0; k < lem::kPhaseCount; ++k)
+      if (static_cast<lem::Phase>(k) != lem::Phase::v)
+        s.add(std::string("broken_") + lem::kPhaseNames[k], static_cast<long long>(r.broken[k]));
     s.add("n_b", r.particle_damage());
     s.add("detached_bonds", static_cast<long long>(r.detached_bonds));
     s.add("pinned_nodes", static_cast<long long>(r.pinned_nodes));

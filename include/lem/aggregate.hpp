@@ -14,20 +14,16 @@
 // measured on the sample equals the requested fraction.
 #pragma once
 
+#include "lem/cell_grid.hpp"
 #include "lem/lattice.hpp"
 #include "lem/packing.hpp"
+#include "lem/phase.hpp"
 
 #include <cstdint>
 #include <functional>
 #include <vector>
 
 namespace lem {
-
-/// Bond phases of the paper: particle, matrix, void, particle-particle and
-/// particle-matrix interfaces.
-enum class Phase : std::uint8_t { p = 0, m = 1, v = 2, pp = 3, pm = 4 };
-inline constexpr int kPhaseCount = 5;
-const char* phase_name(Phase phase);
 
 struct Bridge {
   std::int32_t i = 0, j = 0;  // particle indices, i < j
@@ -71,11 +67,9 @@ class AggregateGeometry {
  private:
   const std::vector<std::int32_t>& cell_items(const Point& x, bool bridges) const;
   bool in_bridge(std::int32_t k, const Point& x) const;
-  Box box_;
   std::vector<Sphere> particles_;
   std::vector<Bridge> bridges_;
-  double cell_ = 1;
-  int n_[3] = {1, 1, 1};
+  CellGrid grid_;  // cells of at least a particle diameter
   std::vector<std::vector<std::int32_t>> particle_cells_, bridge_cells_;
 };
 

@@ -19,16 +19,11 @@
 namespace lem {
 
 /// Bond properties per phase in the paper's stress units: E^phi = k^phi / a,
-/// sigma^phi = f^phi / a^2 (a = mean bond length).  Defaults of the paper:
-/// E^p = 3 E^m = 3 E^pm, sigma^p = sigma^m, sigma^pp = 0 (bare contacts).
+/// sigma^phi = f^phi / a^2 (a = mean bond length); defaults in phase.hpp.
 /// E^pp = 0 removes the particle-particle bonds from the system.
 struct PhaseTable {
-  std::array<double, kPhaseCount> modulus{3.0, 1.0, 0.0, 1.0, 1.0};   // p, m, v, pp, pm
-  // Breaking strain sigma/E of a particle bond 1/300: the paper's peak at a
-  // strain of ~4e-3 with increments of 3e-4 a (sect. 3) needs thresholds of
-  // this order; the paper gives only ratios (sigma^p = sigma^m, sigma^pm
-  // from 0.2 to 1.4 sigma^p), so 0.6 sigma^p is our middle default.
-  std::array<double, kPhaseCount> strength{0.01, 0.01, 0.0, 0.0, 0.006};  // p, m, v, pp, pm
+  std::array<double, kPhaseCount> modulus = kDefaultPhaseModulus;
+  std::array<double, kPhaseCount> strength = kDefaultPhaseStrength;
 };
 
 struct CementedSampleSpec {

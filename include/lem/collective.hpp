@@ -5,7 +5,10 @@
 
 #include <mpi.h>
 
+#include <climits>
 #include <cstdint>
+#include <stdexcept>
+#include <string>
 #include <type_traits>
 #include <vector>
 
@@ -33,8 +36,16 @@ void broadcast(MPI_Comm comm, std::vector<T>& values, int root = 0) {
   static_assert(std::is_trivially_copyable_v<T>);
   std::uint64_t n = values.size();
   MPI_Bcast(&n, 1, MPI_UINT64_T, root, comm);
+  if (n > INT_MAX / sizeof(T)) throw std::length_error("broadcast: too many bytes for MPI_Bcast");
   values.resize(n);
   MPI_Bcast(values.data(), static_cast<int>(n * sizeof(T)), MPI_BYTE, root, comm);
+}
+
+/// Root's string on every rank (the argument is ignored elsewhere).
+inline std::string broadcast_string(MPI_Comm comm, const std::string& value, int root = 0) {
+  std::vector<char> chars(value.begin(), value.end());
+  broadcast(comm, chars, root);
+  return std::string(chars.begin(), chars.end());
 }
 
 /// Root's trivially copyable value on every rank.

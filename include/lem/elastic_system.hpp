@@ -11,6 +11,7 @@
 #pragma once
 
 #include "lem/distributed_lattice.hpp"
+#include "lem/petsc_handle.hpp"
 
 #include <petscksp.h>
 
@@ -121,12 +122,12 @@ class ElasticSystem {
   Point local_displacement(const PetscScalar* u_local, int node) const;
 
   DistributedLattice& lattice_;
-  Mat K_ = nullptr;
-  Vec u_ = nullptr;  // ghosted: owned values followed by ghost values
-  Vec b_ = nullptr;
-  Vec u_start_ = nullptr;  // initial guess kept for a retry
-  KSP ksp_ = nullptr;
-  KSP fallback_ksp_ = nullptr;  // CG + Jacobi, for solves the multigrid fails
+  MatHandle K_;
+  VecHandle u_;  // ghosted: owned values followed by ghost values
+  VecHandle b_;
+  VecHandle u_start_;  // initial guess kept for a retry
+  KspHandle ksp_;
+  KspHandle fallback_ksp_;  // CG + Jacobi, for solves the multigrid fails
   double diagonal_scale_ = 1.0;
   double ground_ = 0.0;  // diagonal added on free dofs (-lattice_ground_stiffness)
   double current_displacement_ = 0.0;

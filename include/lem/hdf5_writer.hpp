@@ -7,7 +7,8 @@
 // file that looks complete.
 #pragma once
 
-#include "lem/files.hpp"  // write_text_file_atomically, for older includers
+#include "lem/files.hpp"       // write_text_file_atomically, for older includers
+#include "lem/provenance.hpp"
 
 #include <mpi.h>
 
@@ -17,17 +18,6 @@
 #include <vector>
 
 namespace lem {
-
-/// Who/what/when produced a file; stored as attributes of the root group.
-struct Provenance {
-  std::string program;      // driver name
-  std::string version;      // project version
-  std::string git_hash;     // source revision
-  std::string options;      // the whole PETSc options database, one option per line
-  std::string start_time;   // ISO 8601, UTC
-  int ranks = 1;
-};
-Provenance collect_provenance(MPI_Comm comm, const std::string& program);
 
 /// A named per-item field with `components` values per item: 1 (scalar), 3
 /// (vector) or 6 (symmetric tensor in XDMF's Tensor6 order xx, xy, xz, yy,

@@ -4,21 +4,9 @@
 
 #include <petscsys.h>
 
-#include <cstdarg>
 #include <cstdio>
 
 namespace lem {
-
-void say(const char* format, ...) {
-  int rank = 0;
-  MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
-  if (rank != 0) return;
-  va_list args;
-  va_start(args, format);
-  std::vfprintf(stdout, format, args);
-  va_end(args);
-  std::fflush(stdout);
-}
 
 int run_driver(int argc, char** argv, const char* help,
                const std::function<void(MPI_Comm)>& body) {
@@ -26,25 +14,17 @@ int run_driver(int argc, char** argv, const char* help,
   int status = 0;
   int rank = 0;
   MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
-  auto report = [&](const char* kind, const char* what) {
-    if (rank == 0) std::fprintf(stderr, "%s: %s\n", kind, what);
-  };
   try {
     body(PETSC_COMM_WORLD);
   } catch (const HelpShown& e) {
     if (rank == 0) std::printf("\n%s\n", e.what());
-  } catch (const InputError& e) {
-    report("error", e.what());
-    status = 1;
-  } catch (const Interrupted& e) {
-    report("interrupted", e.what());
-    status = 4;
-  } catch (const NumericalError& e) {
-    report("numerical failure", e.what());
-    status = 2;
   } catch (const std::exception& e) {
-    report("failure", e.what());
-    status = 3;
+    status = exit_status(e);
+    const char* kind = status == 1   ? "error"
+                       : status == 2 ? "numerical failure"
+                       : status == 4 ? "interrupted"
+                                     : "failure";
+    if (rank == 0) std::fprintf(stderr, "%s: %s\n", kind, e.what());
   }
   PetscFinalize();
   return status;

@@ -22,15 +22,10 @@
 #include <system_error>
 #include <utility>
 
+#include "lem/collective.hpp"
 #include "lem/error.hpp"
+#include "lem/files.hpp"
 #include "lem/hdf5_util.hpp"
-
-#ifndef LEM_VERSION
-#define LEM_VERSION "unknown"
-#endif
-#ifndef LEM_GIT_HASH
-#define LEM_GIT_HASH "unknown"
-#endif
 
 namespace lem {
 namespace {
@@ -54,22 +49,6 @@ int comm_rank(MPI_Comm comm) {
   return rank;
 }
 
-int comm_size(MPI_Comm comm) {
-  int size = 1;
-  MPI_Comm_size(comm, &size);
-  return size;
-}
-
-/// Broadcast a string from `root`; returns the root's value on every rank.
-std::string broadcast_string(MPI_Comm comm, const std::string& value, int root) {
-  std::int64_t length = static_cast<std::int64_t>(value.size());
-  MPI_Bcast(&length, 1, MPI_INT64_T, root, comm);
-  if (length > INT_MAX) throw std::length_error("broadcast_string: string too long for MPI_Bcast");
-  std::string out = comm_rank(comm) == root ? value : std::string(static_cast<std::size_t>(length), '\0');
-  if (length > 0) MPI_Bcast(out.data(), static_cast<int>(length), MPI_CHAR, root, comm);
-  return out;
-}
-
 std::int64_t sum_all(MPI_Comm comm, std::int64_t local) {
   std::int64_t total = 0;
   MPI_Allreduce(&local, &total, 1, MPI_INT64_T, MPI_SUM, comm);
@@ -84,65 +63,36 @@ std::int64_t exclusive_prefix_sum(MPI_Comm comm, std::int64_t local) {
   return prefix;
 }
 
-bool all_ranks_true(MPI_Comm comm, bool local) {
-  int mine = local ? 1 : 0;
-  int all = 0;
-  MPI_Allreduce(&mine, &all, 1, MPI_INT, MPI_LAND, comm);
-  return all != 0;
-}
-
 // ---------------------------------------------------------------------------
 // Collective errors
 // ---------------------------------------------------------------------------
 
-enum class ErrorKind : int { none = 0, input = 1, invalid_argument = 2, runtime = 3 };
-
-/// An error seen by this rank only, to be turned into a collective throw.
+/// The first error this rank found, agreed on with the other ranks by
+/// raise_collectively before anybody throws.
 struct LocalError {
-  ErrorKind kind = ErrorKind::none;
-  std::string message;
+  std::exception_ptr first;
 
-  void set(ErrorKind k, std::string msg) {
-    if (kind != ErrorKind::none) return;  // keep the first one
-    kind = k;
-    message = std::move(msg);
+  template <class Error>
+  void set(Error error) {
+    if (!first) first = std::make_exception_ptr(std::move(error));
   }
 };
 
-[[noreturn]] void throw_error(ErrorKind kind, const std::string& message) {
-  switch (kind) {
-    case ErrorKind::input:
-      throw InputError(message);
-    case ErrorKind::invalid_argument:
-      throw std::invalid_argument(message);
-    default:
-      throw std::runtime_error(message);
-  }
-}
-
 /// If any rank holds an error, every rank throws the error of the lowest such rank.
-void raise_collectively(MPI_Comm comm, const LocalError& error) {
-  const int size = comm_size(comm);
-  int mine = error.kind == ErrorKind::none ? size : comm_rank(comm);
-  int first = size;
-  MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, comm);
-  if (first == size) return;
-  int kind = static_cast<int>(error.kind);
-  MPI_Bcast(&kind, 1, MPI_INT, first, comm);
-  std::string message = broadcast_string(comm, error.message, first);
-  throw_error(static_cast<ErrorKind>(kind), message);
-}
+void raise_collectively(MPI_Comm comm, const LocalError& error) { agree_on_error(comm, error.first); }
 
 /// Run `work` on every rank; if it fails (returns false or throws) anywhere,
 /// every rank throws std::runtime_error("<what>").
 void collective_step(MPI_Comm comm, const std::string& what, const std::function<bool()>& work) {
-  bool ok = false;
-  try {
-    ok = work();
-  } catch (const std::exception&) {
-    ok = false;
-  }
-  if (!all_ranks_true(comm, ok)) throw std::runtime_error(what);
+  run_collectively(comm, [&] {
+    bool ok = false;
+    try {
+      ok = work();
+    } catch (const std::exception&) {
+      ok = false;
+    }
+    if (!ok) throw std::runtime_error(what);
+  });
 }
 
 // ---------------------------------------------------------------------------
@@ -176,25 +126,25 @@ void check_fields(const std::vector<Field>& fields, std::size_t items, const cha
     const std::string where = std::string("/") + group + "/" + f.name;
     if (f.name.empty() || f.name == "." || f.name == ".." ||
         f.name.find_first_of("/\n") != std::string::npos) {
-      error.set(ErrorKind::invalid_argument,
+      error.set(std::invalid_argument(
                 std::string("write_lattice_fields: invalid ") + group + " field name '" + f.name +
-                    "' (must be non-empty and contain no '/')");
+                    "' (must be non-empty and contain no '/')"));
     } else if (reserved.count(f.name) != 0) {
-      error.set(ErrorKind::invalid_argument,
-                "write_lattice_fields: field name '" + f.name + "' is reserved in /" + group);
+      error.set(std::invalid_argument(
+                "write_lattice_fields: field name '" + f.name + "' is reserved in /" + group));
     } else if (!seen.insert(f.name).second) {
-      error.set(ErrorKind::invalid_argument,
-                "write_lattice_fields: duplicate field " + where);
+      error.set(std::invalid_argument(
+                "write_lattice_fields: duplicate field " + where));
     } else if (f.components != 1 && f.components != 3 && f.components != 6) {
-      error.set(ErrorKind::invalid_argument,
+      error.set(std::invalid_argument(
                 "write_lattice_fields: field " + where + " has " + std::to_string(f.components) +
-                    " components (allowed: 1, 3 or 6)");
+                    " components (allowed: 1, 3 or 6)"));
     } else if (f.values.size() != items * static_cast<std::size_t>(f.components)) {
-      error.set(ErrorKind::invalid_argument,
+      error.set(std::invalid_argument(
                 "write_lattice_fields: field " + where + " has " + std::to_string(f.values.size()) +
                     " values on rank " + std::to_string(rank) + ", expected " +
                     std::to_string(items) + " items x " + std::to_string(f.components) +
-                    " components");
+                    " components"));
     }
   }
 }
@@ -390,35 +340,6 @@ std::string xdmf_text(const std::string& h5_name, const GlobalLayout& layout,
 // Misc
 // ---------------------------------------------------------------------------
 
-std::string iso8601_utc_now() {
-  const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
-  std::tm utc{};
-  gmtime_r(&now, &utc);
-  char buffer[32];
-  std::strftime(buffer, sizeof buffer, "%Y-%m-%dT%H:%M:%SZ", &utc);
-  return buffer;
-}
-
-/// PetscOptionsGetAll gives "-a 1 -b -c x "; put one option (with its value) per line.
-/// A token starts a new option when it is '-' followed by a letter or '_'
-/// (so negative numbers stay values).
-std::string options_one_per_line(const std::string& all) {
-  std::istringstream in(all);
-  std::string token;
-  std::string out;
-  bool line_open = false;
-  while (in >> token) {
-    const bool is_name = token.size() > 1 && token[0] == '-' &&
-                         (std::isalpha(static_cast<unsigned char>(token[1])) != 0 || token[1] == '_');
-    if (is_name && line_open) out += '\n';
-    else if (line_open) out += ' ';
-    out += token;
-    line_open = true;
-  }
-  if (line_open) out += '\n';
-  return out;
-}
-
 /// Rank 0: can `path` be created?  Returns an empty string if yes, else why not.
 std::string probe_writable(const std::string& path) {
   const fs::path p(path);
@@ -563,38 +484,6 @@ std::string XdmfText::text() const {
 // Public interface
 // ---------------------------------------------------------------------------
 
-Provenance collect_provenance(MPI_Comm comm, const std::string& program) {
-  Provenance p;
-  p.program = program;
-  p.version = LEM_VERSION;
-  p.git_hash = LEM_GIT_HASH;
-  p.ranks = comm_size(comm);
-
-  LocalError error;
-  std::string options;
-  std::string start_time;
-  if (comm_rank(comm) == 0) {
-    start_time = iso8601_utc_now();
-    PetscBool initialized = PETSC_FALSE;
-    if (PetscInitialized(&initialized) == 0 && initialized) {
-      char* all = nullptr;
-      const PetscErrorCode ierr = PetscOptionsGetAll(nullptr, &all);
-      if (ierr != 0) {
-        error.set(ErrorKind::runtime,
-                  "collect_provenance: PetscOptionsGetAll failed with error " + std::to_string(ierr));
-      } else {
-        options = options_one_per_line(all != nullptr ? all : "");
-      }
-      if (all != nullptr) PetscFree(all);
-    }
-  }
-  raise_collectively(comm, error);
-  // Rank 0's view wins, so that every rank writes identical attributes.
-  p.start_time = broadcast_string(comm, start_time, 0);
-  p.options = broadcast_string(comm, options, 0);
-  return p;
-}
-
 void write_lattice_fields(MPI_Comm comm, const std::string& stem, const NodeSlice& nodes,
                           const BondSlice& bonds, const Provenance& provenance,
                           const std::vector<std::pair<std::string, double>>& scalars) {
@@ -605,15 +494,15 @@ void write_lattice_fields(MPI_Comm comm, const std::string& stem, const NodeSlic
   const std::size_t local_nodes = nodes.coords.size();
   const std::size_t local_bonds = bonds.ends.size();
   if (nodes.ids.size() != local_nodes)
-    error.set(ErrorKind::invalid_argument,
+    error.set(std::invalid_argument(
               "write_lattice_fields: rank " + std::to_string(rank) + " has " +
                   std::to_string(local_nodes) + " node coordinates but " +
-                  std::to_string(nodes.ids.size()) + " node ids");
+                  std::to_string(nodes.ids.size()) + " node ids"));
   if (bonds.ids.size() != local_bonds)
-    error.set(ErrorKind::invalid_argument,
+    error.set(std::invalid_argument(
               "write_lattice_fields: rank " + std::to_string(rank) + " has " +
                   std::to_string(local_bonds) + " bonds but " + std::to_string(bonds.ids.size()) +
-                  " bond ids");
+                  " bond ids"));
   check_fields(nodes.fields, local_nodes, "nodes", {"coordinates", "id"}, rank, error);
   check_fields(bonds.fields, local_bonds, "bonds", {"connectivity", "id"}, rank, error);
   raise_collectively(comm, error);
@@ -625,9 +514,9 @@ void write_lattice_fields(MPI_Comm comm, const std::string& stem, const NodeSlic
     const std::string mine = schema_text(node_fields, bond_fields);
     const std::string root = broadcast_string(comm, mine, 0);
     if (mine != root)
-      error.set(ErrorKind::invalid_argument,
+      error.set(std::invalid_argument(
                 "write_lattice_fields: rank " + std::to_string(rank) +
-                    " passes different fields (names/components/order) than rank 0");
+                    " passes different fields (names/components/order) than rank 0"));
     raise_collectively(comm, error);
   }
 
@@ -652,9 +541,9 @@ void write_lattice_fields(MPI_Comm comm, const std::string& stem, const NodeSlic
     for (std::size_t i = 0; i < values.size(); ++i) {
       std::string name = broadcast_string(comm, rank == 0 ? scalars[i].first : std::string(), 0);
       if (name.empty() || !names.insert(name).second)
-        error.set(ErrorKind::invalid_argument,
+        error.set(std::invalid_argument(
                   "write_lattice_fields: scalar name '" + name +
-                      "' is empty, duplicated or reserved for provenance");
+                      "' is empty, duplicated or reserved for provenance"));
       root_scalars.emplace_back(std::move(name), values[i]);
     }
     raise_collectively(comm, error);  // identical on all ranks: no rank is left behind
@@ -671,7 +560,7 @@ void write_lattice_fields(MPI_Comm comm, const std::string& stem, const NodeSlic
   if (rank == 0) {
     const std::string why = probe_writable(tmp_path);
     if (!why.empty())
-      error.set(ErrorKind::input, "cannot write output '" + h5_path + "': " + why);
+      error.set(InputError("cannot write output '" + h5_path + "': " + why));
   }
   raise_collectively(comm, error);
 
@@ -684,9 +573,9 @@ void write_lattice_fields(MPI_Comm comm, const std::string& stem, const NodeSlic
   for (const auto& ends : bonds.ends) {
     for (std::int64_t end : ends) {
       if (end < 0 || end >= layout.nodes) {
-        error.set(ErrorKind::invalid_argument,
+        error.set(std::invalid_argument(
                   "write_lattice_fields: bond end node " + std::to_string(end) +
-                      " is outside the node rows [0, " + std::to_string(layout.nodes) + ")");
+                      " is outside the node rows [0, " + std::to_string(layout.nodes) + ")"));
       }
     }
   }
@@ -709,20 +598,11 @@ void write_lattice_fields(MPI_Comm comm, const std::string& stem, const NodeSlic
   // 7. Rank 0 publishes the file and writes the XDMF description.
   if (rank == 0) {
     try {
-      std::error_code ec;
-      fs::rename(tmp_path, h5_path, ec);
-      if (ec) {
-        fs::remove(tmp_path, ec);
-        error.set(ErrorKind::input,
-                  "cannot rename '" + tmp_path + "' to '" + h5_path + "': " + ec.message());
-      } else {
-        const std::string h5_name = fs::path(h5_path).filename().string();
-        write_text_file_atomically(xmf_path, xdmf_text(h5_name, layout, node_fields, bond_fields));
-      }
-    } catch (const InputError& e) {
-      error.set(ErrorKind::input, e.what());
-    } catch (const std::exception& e) {
-      error.set(ErrorKind::runtime, e.what());
+      move_into_place(tmp_path, h5_path);
+      const std::string h5_name = fs::path(h5_path).filename().string();
+      write_text_file_atomically(xmf_path, xdmf_text(h5_name, layout, node_fields, bond_fields));
+    } catch (...) {
+      error.first = std::current_exception();
     }
   }
   raise_collectively(comm, error);

@@ -1,5 +1,6 @@
 // Random lattice: hard-core random points (random sequential addition) on the
 // corners, edges, faces and inside of the box, joined by their Delaunay edges.
+#include "lem/cell_grid.hpp"
 #include "lem/error.hpp"
 #include "lem/lattice.hpp"
 
@@ -21,29 +22,23 @@ using CellBase = CGAL::Delaunay_triangulation_cell_base_3<Kernel>;
 using Tds = CGAL::Triangulation_data_structure_3<VertexBase, CellBase>;
 using Delaunay = CGAL::Delaunay_triangulation_3<Kernel, Tds>;
 
-// Uniform cell grid over the box answering "is any point closer than r?".
+// Hard-core placement: is any point already placed closer than the radius?
 class HardCoreGrid {
  public:
-  HardCoreGrid(const Box& box, double cell, double radius) : box_(box), r2_(radius * radius) {
-    for (int a = 0; a < 3; ++a) {
-      n_[a] = std::max(1, static_cast<int>(std::floor(box.length(a) / cell)));
-      inv_[a] = n_[a] / box.length(a);
-    }
-    head_.assign(static_cast<std::size_t>(n_[0]) * n_[1] * n_[2], -1);
-  }
+  HardCoreGrid(const Box& box, double cell, double radius)
+      : grid_(box, cell), r2_(radius * radius), head_(grid_.cell_count(), -1) {}
 
   bool try_add(const Point& p, std::vector<Point>& points) {
-    int c[3];
-    for (int a = 0; a < 3; ++a) c[a] = cell_of(p[a], a);
-    for (int i = std::max(0, c[0] - 1); i <= std::min(n_[0] - 1, c[0] + 1); ++i)
-      for (int j = std::max(0, c[1] - 1); j <= std::min(n_[1] - 1, c[1] + 1); ++j)
-        for (int k = std::max(0, c[2] - 1); k <= std::min(n_[2] - 1, c[2] + 1); ++k)
-          for (int q = head_[index(i, j, k)]; q >= 0; q = next_[q]) {
-            const Point& o = points[q];
-            const double dx = o[0] - p[0], dy = o[1] - p[1], dz = o[2] - p[2];
-            if (dx * dx + dy * dy + dz * dz < r2_) return false;
-          }
-    const std::size_t cell = index(c[0], c[1], c[2]);
+    const bool clear = grid_.for_each_cell_near(p, [&](std::size_t cell) {
+      for (int q = head_[cell]; q >= 0; q = next_[q]) {
+        const Point& o = points[q];
+        const double dx = o[0] - p[0], dy = o[1] - p[1], dz = o[2] - p[2];
+        if (dx * dx + dy * dy + dz * dz < r2_) return false;
+      }
+      return true;
+    });
+    if (!clear) return false;
+    const std::size_t cell = grid_.cell_of(p);
     next_.push_back(head_[cell]);
     head_[cell] = static_cast<std::int32_t>(points.size());
     points.push_back(p);
@@ -51,17 +46,9 @@ class HardCoreGrid {
   }
 
  private:
-  int cell_of(double x, int a) const {
-    return std::clamp(static_cast<int>((x - box_.lo[a]) * inv_[a]), 0, n_[a] - 1);
-  }
-  std::size_t index(int i, int j, int k) const {
-    return (static_cast<std::size_t>(i) * n_[1] + j) * n_[2] + k;
-  }
-  Box box_;
+  CellGrid grid_;
   double r2_;
-  int n_[3];
-  double inv_[3];
-  std::vector<std::int32_t> head_, next_;
+  std::vector<std::int32_t> head_, next_;  // per cell, a linked list of points
 };
 
 }  // namespace

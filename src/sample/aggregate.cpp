@@ -1,9 +1,11 @@
 #include "lem/aggregate.hpp"
 
+#include "lem/cell_grid.hpp"
 #include "lem/error.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <sstream>
 
@@ -30,11 +32,6 @@ double lambda_for_volume(const Sphere& a, const Sphere& b, double volume, double
 
 }  // namespace
 
-const char* phase_name(Phase phase) {
-  static const char* const names[] = {"p", "m", "v", "pp", "pm"};
-  return names[static_cast<int>(phase)];
-}
-
 std::vector<Bridge> eligible_pairs(const std::vector<Sphere>& particles, double max_gap) {
   std::vector<Bridge> pairs;
   if (particles.empty()) return pairs;
@@ -48,30 +45,21 @@ std::vector<Bridge> eligible_pairs(const std::vector<Sphere>& particles, double 
     }
   }
   // Cell side >= the largest centre distance of an eligible pair.
-  const double cell = 2 * rmax + max_gap;
-  int n[3];
-  for (int a = 0; a < 3; ++a) n[a] = std::max(1, static_cast<int>((hi[a] - lo[a]) / cell) + 1);
-  auto index = [&](const Point& p, int a) {
-    return std::min(n[a] - 1, static_cast<int>((p[a] - lo[a]) / cell));
-  };
-  std::vector<std::vector<std::int32_t>> cells(static_cast<std::size_t>(n[0]) * n[1] * n[2]);
+  const CellGrid grid(Box{lo, hi}, 2 * rmax + max_gap);
+  std::vector<std::vector<std::int32_t>> cells(grid.cell_count());
+  for (std::size_t k = 0; k < particles.size(); ++k)
+    cells[grid.cell_of(particles[k].centre)].push_back(static_cast<std::int32_t>(k));
   for (std::size_t k = 0; k < particles.size(); ++k) {
     const Point& c = particles[k].centre;
-    cells[(static_cast<std::size_t>(index(c, 0)) * n[1] + index(c, 1)) * n[2] + index(c, 2)]
-        .push_back(static_cast<std::int32_t>(k));
-  }
-  for (std::size_t k = 0; k < particles.size(); ++k) {
-    const Point& c = particles[k].centre;
-    const int ci = index(c, 0), cj = index(c, 1), ck = index(c, 2);
-    for (int i = std::max(0, ci - 1); i <= std::min(n[0] - 1, ci + 1); ++i)
-      for (int j = std::max(0, cj - 1); j <= std::min(n[1] - 1, cj + 1); ++j)
-        for (int l = std::max(0, ck - 1); l <= std::min(n[2] - 1, ck + 1); ++l)
-          for (std::int32_t m : cells[(static_cast<std::size_t>(i) * n[1] + j) * n[2] + l]) {
-            if (m <= static_cast<std::int32_t>(k)) continue;
-            const double gap = distance(c, particles[m].centre) - particles[k].radius -
-                               particles[m].radius;
-            if (gap <= max_gap) pairs.push_back(Bridge{static_cast<std::int32_t>(k), m, 0.0});
-          }
+    grid.for_each_cell_near(c, [&](std::size_t cell) {
+      for (std::int32_t m : cells[cell]) {
+        if (m <= static_cast<std::int32_t>(k)) continue;
+        const double gap = distance(c, particles[m].centre) - particles[k].radius -
+                           particles[m].radius;
+        if (gap <= max_gap) pairs.push_back(Bridge{static_cast<std::int32_t>(k), m, 0.0});
+      }
+      return true;
+    });
   }
   std::sort(pairs.begin(), pairs.end(),
             [](const Bridge& x, const Bridge& y) { return x.i < y.i || (x.i == y.i && x.j < y.j); });
@@ -115,28 +103,28 @@ double bridge_volume(const Sphere& a, const Sphere& b, double lambda) {
   return std::numbers::pi * volume;
 }
 
+namespace {
+
+// Cells of at least a particle diameter (one cell without particles).
+double geometry_cell_side(const std::vector<Sphere>& particles) {
+  double rmax = 0;
+  for (const auto& s : particles) rmax = std::max(rmax, s.radius);
+  return rmax > 0 ? 2 * rmax : std::numeric_limits<double>::infinity();
+}
+
+}  // namespace
+
 AggregateGeometry::AggregateGeometry(const Box& box, std::vector<Sphere> particles,
                                      std::vector<Bridge> bridges)
-    : box_(box), particles_(std::move(particles)), bridges_(std::move(bridges)) {
-  double rmax = 0;
-  for (const auto& s : particles_) rmax = std::max(rmax, s.radius);
-  cell_ = std::max(2 * rmax, 1e-12);
-  for (int a = 0; a < 3; ++a) n_[a] = std::max(1, static_cast<int>(std::ceil(box.length(a) / cell_)));
-  const std::size_t cells = static_cast<std::size_t>(n_[0]) * n_[1] * n_[2];
-  particle_cells_.assign(cells, {});
-  bridge_cells_.assign(cells, {});
+    : particles_(std::move(particles)),
+      bridges_(std::move(bridges)),
+      grid_(box, geometry_cell_side(particles_)) {
+  particle_cells_.assign(grid_.cell_count(), {});
+  bridge_cells_.assign(grid_.cell_count(), {});
   // Register an item in every cell its bounding box [lo, hi] touches.
-  auto insert = [&](std::vector<std::vector<std::int32_t>>& grid, const Point& lo, const Point& hi,
-                    std::int32_t item) {
-    int a0[3], a1[3];
-    for (int a = 0; a < 3; ++a) {
-      a0[a] = std::clamp(static_cast<int>(std::floor((lo[a] - box_.lo[a]) / cell_)), 0, n_[a] - 1);
-      a1[a] = std::clamp(static_cast<int>(std::floor((hi[a] - box_.lo[a]) / cell_)), 0, n_[a] - 1);
-    }
-    for (int i = a0[0]; i <= a1[0]; ++i)
-      for (int j = a0[1]; j <= a1[1]; ++j)
-        for (int k = a0[2]; k <= a1[2]; ++k)
-          grid[(static_cast<std::size_t>(i) * n_[1] + j) * n_[2] + k].push_back(item);
+  auto insert = [&](std::vector<std::vector<std::int32_t>>& cells, const Point& lo,
+                    const Point& hi, std::int32_t item) {
+    grid_.for_each_cell_touching(lo, hi, [&](std::size_t cell) { cells[cell].push_back(item); });
   };
   for (std::size_t k = 0; k < particles_.size(); ++k) {
     const auto& s = particles_[k];
@@ -159,11 +147,8 @@ AggregateGeometry::AggregateGeometry(const Box& box, std::vector<Sphere> particl
 }
 
 const std::vector<std::int32_t>& AggregateGeometry::cell_items(const Point& x, bool bridges) const {
-  int c[3];
-  for (int a = 0; a < 3; ++a)
-    c[a] = std::clamp(static_cast<int>(std::floor((x[a] - box_.lo[a]) / cell_)), 0, n_[a] - 1);
-  const std::size_t k = (static_cast<std::size_t>(c[0]) * n_[1] + c[1]) * n_[2] + c[2];
-  return bridges ? bridge_cells_[k] : particle_cells_[k];
+  const std::size_t cell = grid_.cell_of(x);
+  return bridges ? bridge_cells_[cell] : particle_cells_[cell];
 }
 
 std::int32_t AggregateGeometry::particle_at(const Point& x) const {

@@ -3,8 +3,9 @@
 // everything it loads so that a wrong or damaged file is one clear message.
 #include "lem/sample_file.hpp"
 
-#include "lem/hdf5_util.hpp"
 #include "lem/error.hpp"
+#include "lem/files.hpp"
+#include "lem/hdf5_util.hpp"
 
 #include <hdf5.h>
 
@@ -537,14 +538,7 @@ void write_sample(const std::string& stem, const CementedSample& sample,
     fs::remove(tmp_path, ec);
     throw;
   }
-  std::error_code ec;
-  fs::rename(tmp_path, h5_path, ec);
-  if (ec) {
-    const std::string reason = ec.message();
-    fs::remove(tmp_path, ec);
-    throw InputError("cannot write sample file '" + h5_path + "': renaming '" + tmp_path +
-                     "' failed: " + reason);
-  }
+  move_into_place(tmp_path, h5_path);
   write_text_file_atomically(stem + ".xmf",
                              sample_xdmf(fs::path(h5_path).filename().string(), sample));
 }

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <string>
 
 namespace lem {
 namespace {
@@ -115,26 +116,29 @@ CementedSampleSpec read_cemented_sample_spec(MPI_Comm comm) {
 PhaseTable read_phase_table(MPI_Comm comm) {
   PhaseTable t;
   OptionGroup g(comm, "Bond properties per phase (paper sect. 2.2: E = k/a, sigma = f/a^2)");
+  // -phase_E_<name> and -phase_sigma_<name> for every phase but the void.
   struct Entry {
     Phase phase;
-    const char *modulus, *modulus_help, *strength, *strength_help;
+    const char *modulus_help, *strength_help;
   };
   static const Entry entries[] = {
-      {Phase::p, "-phase_E_p", "Modulus E^p = k^p/a of bonds inside a particle (paper: 3 E^m)",
-       "-phase_sigma_p", "Breaking stress sigma^p = f^p/a^2 of particle bonds"},
-      {Phase::m, "-phase_E_m", "Modulus E^m = k^m/a of matrix bonds", "-phase_sigma_m",
+      {Phase::p, "Modulus E^p = k^p/a of bonds inside a particle (paper: 3 E^m)",
+       "Breaking stress sigma^p = f^p/a^2 of particle bonds"},
+      {Phase::m, "Modulus E^m = k^m/a of matrix bonds",
        "Breaking stress sigma^m = f^m/a^2 of matrix bonds (paper: sigma^p)"},
-      {Phase::pp, "-phase_E_pp", "Modulus E^pp = k^pp/a of bonds joining two particles "
-       "(0: bare contacts carry nothing and are left out)", "-phase_sigma_pp",
+      {Phase::pp, "Modulus E^pp = k^pp/a of bonds joining two particles "
+       "(0: bare contacts carry nothing and are left out)",
        "Breaking stress sigma^pp = f^pp/a^2 of particle-particle bonds (paper: 0)"},
-      {Phase::pm, "-phase_E_pm", "Modulus E^pm = k^pm/a of particle-matrix interface bonds "
-       "(paper: E^m)", "-phase_sigma_pm",
+      {Phase::pm, "Modulus E^pm = k^pm/a of particle-matrix interface bonds (paper: E^m)",
        "Breaking stress sigma^pm = f^pm/a^2 of particle-matrix interface bonds"},
   };
   for (const Entry& e : entries) {
     const int k = static_cast<int>(e.phase);
-    t.modulus[k] = g.real(e.modulus, e.modulus_help, t.modulus[k], 0.0, 1e12, e.phase != Phase::pp);
-    t.strength[k] = g.real(e.strength, e.strength_help, t.strength[k], 0.0, 1e12);
+    const std::string modulus = std::string("-phase_E_") + phase_name(e.phase);
+    const std::string strength = std::string("-phase_sigma_") + phase_name(e.phase);
+    t.modulus[k] = g.real(modulus.c_str(), e.modulus_help, t.modulus[k], 0.0, 1e12,
+                          e.phase != Phase::pp);
+    t.strength[k] = g.real(strength.c_str(), e.strength_help, t.strength[k], 0.0, 1e12);
   }
   return t;
 }

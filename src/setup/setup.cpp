@@ -1,6 +1,7 @@
 #include "lem/setup.hpp"
 
 #include "lem/error.hpp"
+#include "lem/log.hpp"
 #include "lem/options.hpp"
 #include "lem/partition.hpp"
 #include "lem/sample_file.hpp"
@@ -109,12 +110,7 @@ Lattice build_sample(const SampleOptions& o, SampleInfo& info) {
 DistributedLattice setup_tension_lattice(MPI_Comm comm,
                                          const std::function<Lattice(SampleInfo&)>& build,
                                          SetupReport& report, bool morton) {
-  static PetscLogStage stage = [] {
-    PetscLogStage s;
-    PetscLogStageRegister("Sample setup", &s);
-    return s;
-  }();
-  LEM_PETSC(PetscLogStagePush(stage));
+  LogStageScope stage("Sample setup");
   int size = 1;
   MPI_Comm_size(comm, &size);
   Lattice lattice;
@@ -149,7 +145,7 @@ DistributedLattice setup_tension_lattice(MPI_Comm comm,
   // SetupReport is trivially copyable: share the root's values.
   static_assert(std::is_trivially_copyable_v<SetupReport>);
   MPI_Bcast(&report, sizeof(report), MPI_BYTE, 0, comm);
-  LEM_PETSC(PetscLogStagePop());
+  stage.pop();
   return dl;
 }
 

@@ -1,6 +1,7 @@
 #include "lem/elastic_system.hpp"
 
 #include "lem/error.hpp"
+#include "lem/log.hpp"
 #include "lem/options.hpp"
 
 #include <algorithm>
@@ -15,14 +16,9 @@ struct Stages {
   PetscLogStage assembly, pc_setup, solve;
 };
 
+// Registered together, so that -log_view lists them in this order.
 const Stages& log_stages() {
-  static Stages stages = [] {
-    Stages s{};
-    PetscLogStageRegister("Assembly", &s.assembly);
-    PetscLogStageRegister("PC setup", &s.pc_setup);
-    PetscLogStageRegister("Solve", &s.solve);
-    return s;
-  }();
+  static const Stages stages{log_stage("Assembly"), log_stage("PC setup"), log_stage("Solve")};
   return stages;
 }
 
@@ -54,8 +50,7 @@ void bond_direction(const DistributedLattice& l, int bond, double n[3]) {
 }  // namespace
 
 ElasticSystem::ElasticSystem(DistributedLattice& lattice) : lattice_(lattice) {
-  const Stages& stages = log_stages();
-  LEM_PETSC(PetscLogStagePush(stages.assembly));
+  LogStageScope stage(log_stages().assembly);
   const MPI_Comm comm = lattice_.comm;
   const int owned = lattice_.owned;
 
@@ -63,8 +58,8 @@ ElasticSystem::ElasticSystem(DistributedLattice& lattice) : lattice_(lattice) {
   std::vector<PetscInt> ghosts(lattice_.global_index.begin() + owned,
                                lattice_.global_index.end());
   LEM_PETSC(VecCreateGhostBlock(comm, 3, 3 * owned, PETSC_DECIDE,
-                                static_cast<PetscInt>(ghosts.size()), ghosts.data(), &u_));
-  LEM_PETSC(VecDuplicate(u_, &b_));
+                                static_cast<PetscInt>(ghosts.size()), ghosts.data(), u_.replace()));
+  LEM_PETSC(VecDuplicate(u_, b_.replace()));
 
   // Exact block preallocation: the diagonal block plus one block per bond.
   std::vector<PetscInt> diag(owned, 1), off(owned, 0);
@@ -80,7 +75,7 @@ ElasticSystem::ElasticSystem(DistributedLattice& lattice) : lattice_(lattice) {
       has_bond[me] = 1;
     }
   }
-  LEM_PETSC(MatCreate(comm, &K_));
+  LEM_PETSC(MatCreate(comm, K_.replace()));
   LEM_PETSC(MatSetSizes(K_, 3 * owned, 3 * owned, PETSC_DETERMINE, PETSC_DETERMINE));
   LEM_PETSC(MatSetBlockSize(K_, 3));
   LEM_PETSC(MatSetType(K_, MATAIJ));
@@ -111,19 +106,17 @@ ElasticSystem::ElasticSystem(DistributedLattice& lattice) : lattice_(lattice) {
   }
 
   // Rigid-body modes as the near null space of the multigrid preconditioner.
-  Vec coords;
-  LEM_PETSC(VecCreateMPI(comm, 3 * owned, PETSC_DETERMINE, &coords));
+  VecHandle coords;
+  LEM_PETSC(VecCreateMPI(comm, 3 * owned, PETSC_DETERMINE, coords.replace()));
   LEM_PETSC(VecSetBlockSize(coords, 3));
   PetscScalar* c = nullptr;
   LEM_PETSC(VecGetArray(coords, &c));
   for (int n = 0; n < owned; ++n)
     for (int a = 0; a < 3; ++a) c[3 * n + a] = lattice_.coords[n][a];
   LEM_PETSC(VecRestoreArray(coords, &c));
-  MatNullSpace rigid;
-  LEM_PETSC(MatNullSpaceCreateRigidBody(coords, &rigid));
+  NullSpaceHandle rigid;
+  LEM_PETSC(MatNullSpaceCreateRigidBody(coords, rigid.replace()));
   LEM_PETSC(MatSetNearNullSpace(K_, rigid));
-  LEM_PETSC(MatNullSpaceDestroy(&rigid));
-  LEM_PETSC(VecDestroy(&coords));
 
   set_default_option("-ksp_type", "cg");
   set_default_option("-pc_type", "gamg");
@@ -134,22 +127,16 @@ ElasticSystem::ElasticSystem(DistributedLattice& lattice) : lattice_(lattice) {
   set_default_option("-mg_levels_ksp_max_it", "1");
   set_default_option("-pc_gamg_coarse_eq_limit", "1000");
   set_default_option("-ksp_rtol", "1e-8");
-  LEM_PETSC(KSPCreate(comm, &ksp_));
+  LEM_PETSC(KSPCreate(comm, ksp_.replace()));
   LEM_PETSC(KSPSetOperators(ksp_, K_, K_));
   LEM_PETSC(KSPSetInitialGuessNonzero(ksp_, PETSC_TRUE));
   LEM_PETSC(KSPSetFromOptions(ksp_));
   create_fallback();  // now, so that its -fallback_* options count as used
-  LEM_PETSC(PetscLogStagePop());
+  stage.pop();
 }
 
-ElasticSystem::~ElasticSystem() {
-  KSPDestroy(&ksp_);
-  MatDestroy(&K_);
-  VecDestroy(&u_);
-  VecDestroy(&b_);
-  VecDestroy(&u_start_);
-  KSPDestroy(&fallback_ksp_);
-}
+// The handles destroy the PETSc objects (also when the constructor throws).
+ElasticSystem::~ElasticSystem() = default;
 
 void ElasticSystem::add_bond_block(int bond, double k_change) {
   const auto [p, q] = lattice_.bond_ends[bond];
@@ -174,7 +161,7 @@ void ElasticSystem::add_bond_block(int bond, double k_change) {
 }
 
 void ElasticSystem::assemble() {
-  LEM_PETSC(PetscLogStagePush(log_stages().assembly));
+  LogStageScope stage(log_stages().assembly);
   LEM_PETSC(MatZeroEntries(K_));
   for (int b = 0; b < lattice_.local_bonds(); ++b) add_bond_block(b, lattice_.bond_stiffness[b]);
   for (int n = 0; n < lattice_.owned; ++n) {
@@ -188,7 +175,7 @@ void ElasticSystem::assemble() {
   LEM_PETSC(MatAssemblyBegin(K_, MAT_FINAL_ASSEMBLY));
   LEM_PETSC(MatAssemblyEnd(K_, MAT_FINAL_ASSEMBLY));
   operator_changed_ = true;
-  LEM_PETSC(PetscLogStagePop());
+  stage.pop();
 }
 
 void ElasticSystem::set_bond_stiffness(int local_bond, double k) {
@@ -264,7 +251,7 @@ SolveReport ElasticSystem::solve(double top_displacement) {
   // A preconditioner kept from an earlier K can turn indefinite (e.g. once
   // loose nodes are pinned, their rows stiffen): retry once with a fresh one
   // from the same initial guess before giving up.
-  if (!u_start_) LEM_PETSC(VecDuplicate(u_, &u_start_));
+  if (!u_start_) LEM_PETSC(VecDuplicate(u_, u_start_.replace()));
   LEM_PETSC(VecCopy(u_, u_start_));
   SolveReport report = attempt_solve();
   bool built = report.preconditioner_built;  // by any attempt (restart replays it)
@@ -309,17 +296,17 @@ SolveReport ElasticSystem::attempt_solve() {
   double t0 = MPI_Wtime();
   report.preconditioner_built = !pc_ready_ || pc_stale_ || (operator_changed_ && !reuse_pc_);
   pc_ready_ = true;
-  LEM_PETSC(PetscLogStagePush(stages.pc_setup));
+  LogStageScope pc_stage(stages.pc_setup);
   if (pc_stale_) LEM_PETSC(KSPSetReusePreconditioner(ksp_, PETSC_FALSE));
   LEM_PETSC(KSPSetUp(ksp_));
   if (pc_stale_ && reuse_pc_) LEM_PETSC(KSPSetReusePreconditioner(ksp_, PETSC_TRUE));
   pc_stale_ = false;
-  LEM_PETSC(PetscLogStagePop());
+  pc_stage.pop();
   report.setup_seconds = MPI_Wtime() - t0;
   t0 = MPI_Wtime();
-  LEM_PETSC(PetscLogStagePush(stages.solve));
+  LogStageScope solve_stage(stages.solve);
   LEM_PETSC(KSPSolve(ksp_, b_, u_));
-  LEM_PETSC(PetscLogStagePop());
+  solve_stage.pop();
   report.solve_seconds = MPI_Wtime() - t0;
   PetscInt its = 0;
   PetscReal rnorm = 0;
@@ -333,7 +320,7 @@ SolveReport ElasticSystem::attempt_solve() {
 
 void ElasticSystem::create_fallback() {
   {
-    LEM_PETSC(KSPCreate(lattice_.comm, &fallback_ksp_));
+    LEM_PETSC(KSPCreate(lattice_.comm, fallback_ksp_.replace()));
     LEM_PETSC(KSPSetOptionsPrefix(fallback_ksp_, "fallback_"));
     LEM_PETSC(KSPSetType(fallback_ksp_, KSPCG));
     PC pc;
@@ -371,11 +358,11 @@ void ElasticSystem::set_reuse_preconditioner(bool reuse) {
 void ElasticSystem::rebuild_preconditioner() { pc_stale_ = true; }
 
 void ElasticSystem::build_preconditioner() {
-  LEM_PETSC(PetscLogStagePush(log_stages().pc_setup));
+  LogStageScope stage(log_stages().pc_setup);
   LEM_PETSC(KSPSetReusePreconditioner(ksp_, PETSC_FALSE));
   LEM_PETSC(KSPSetUp(ksp_));
   LEM_PETSC(KSPSetReusePreconditioner(ksp_, reuse_pc_ ? PETSC_TRUE : PETSC_FALSE));
-  LEM_PETSC(PetscLogStagePop());
+  stage.pop();
   pc_stale_ = false;
   pc_ready_ = true;
 }

@@ -1,0 +1,41 @@
+# The Python side (tools/lem_tools/phases.py) must list the bond phases of
+# include/lem/phase.hpp, in code order: as one sequence of quoted names
+# ("p", "m", ...) or as assignments (p = 0, m = 1, ...).
+#   cmake -DSOURCE_DIR=<repo> -P check_phase_names.cmake
+cmake_minimum_required(VERSION 3.20)
+
+file(READ "${SOURCE_DIR}/include/lem/phase.hpp" header)
+if(NOT header MATCHES "kPhaseNames\\{([^}]*)\\}")
+  message(FATAL_ERROR "phase names: no kPhaseNames{...} in include/lem/phase.hpp")
+endif()
+string(REGEX MATCHALL "\"[a-z]+\"" quoted "${CMAKE_MATCH_1}")
+string(REPLACE "\"" "" names "${quoted}")
+
+set(python "${SOURCE_DIR}/tools/lem_tools/phases.py")
+if(NOT EXISTS "${python}")
+  message(STATUS "phase names: SKIPPED, ${python} does not exist")
+  return()
+endif()
+file(READ "${python}" text)
+set(sequence "")
+set(assignments "")
+set(code 0)
+foreach(name IN LISTS names)
+  if(sequence)
+    string(APPEND sequence "[ \t\r\n]*,[ \t\r\n]*")
+  endif()
+  string(APPEND sequence "[\"']${name}[\"']")
+  list(APPEND assignments "(^|\n)[ \t]*${name}[ \t]*=[ \t]*${code}[^0-9]")
+  math(EXPR code "${code} + 1")
+endforeach()
+if(text MATCHES "${sequence}")
+  message(STATUS "phase names: ${python} lists ${names}")
+  return()
+endif()
+foreach(pattern IN LISTS assignments)
+  if(NOT text MATCHES "${pattern}")
+    message(FATAL_ERROR "phase names: ${python} does not list the phases ${names} "
+                        "of include/lem/phase.hpp in that order")
+  endif()
+endforeach()
+message(STATUS "phase names: ${python} numbers ${names}")

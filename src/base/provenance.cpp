@@ -1,0 +1,81 @@
+#include "lem/provenance.hpp"
+
+#include "lem/collective.hpp"
+#include "lem/error.hpp"
+
+#include <petscsys.h>
+
+#include <cctype>
+#include <chrono>
+#include <ctime>
+#include <sstream>
+
+// Only this file sees the version, so a new commit rebuilds one file.
+#ifndef LEM_VERSION
+#define LEM_VERSION "unknown"
+#endif
+#ifndef LEM_GIT_HASH
+#define LEM_GIT_HASH "unknown"
+#endif
+
+namespace lem {
+namespace {
+
+std::string iso8601_utc_now() {
+  const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
+  std::tm utc{};
+  gmtime_r(&now, &utc);
+  char buffer[32];
+  std::strftime(buffer, sizeof buffer, "%Y-%m-%dT%H:%M:%SZ", &utc);
+  return buffer;
+}
+
+/// PetscOptionsGetAll gives "-a 1 -b -c x "; put one option (with its value) per line.
+/// A token starts a new option when it is '-' followed by a letter or '_'
+/// (so negative numbers stay values).
+std::string options_one_per_line(const std::string& all) {
+  std::istringstream in(all);
+  std::string token;
+  std::string out;
+  bool line_open = false;
+  while (in >> token) {
+    const bool is_name = token.size() > 1 && token[0] == '-' &&
+                         (std::isalpha(static_cast<unsigned char>(token[1])) != 0 || token[1] == '_');
+    if (is_name && line_open) out += '\n';
+    else if (line_open) out += ' ';
+    out += token;
+    line_open = true;
+  }
+  if (line_open) out += '\n';
+  return out;
+}
+
+}  // namespace
+
+Provenance collect_provenance(MPI_Comm comm, const std::string& program) {
+  Provenance p;
+  p.program = program;
+  p.version = LEM_VERSION;
+  p.git_hash = LEM_GIT_HASH;
+  MPI_Comm_size(comm, &p.ranks);
+  std::string options;
+  std::string start_time;
+  run_on_root(comm, [&] {
+    start_time = iso8601_utc_now();
+    PetscBool initialized = PETSC_FALSE;
+    if (PetscInitialized(&initialized) != 0 || !initialized) return;
+    char* all = nullptr;
+    const PetscErrorCode ierr = PetscOptionsGetAll(nullptr, &all);
+    if (ierr == 0) options = options_one_per_line(all != nullptr ? all : "");
+    if (all != nullptr) PetscFree(all);
+    if (ierr != 0)
+      throw std::runtime_error("collect_provenance: PetscOptionsGetAll failed with error " +
+                               std::to_string(ierr));
+  });
+  // Rank 0's view wins, so that every rank writes identical attributes.
+  p.start_time = broadcast_string(comm, start_time);
+  p.options = broadcast_string(comm, options);
+  return p;
+}
+
+}  // namespace lem

@@ -1,0 +1,186 @@
+// The ground floor at one rank: phases, the atomic writer, exit statuses,
+// PETSc handles, the byte serialiser, the cell grid.
+#include "lem/byte_stream.hpp"
+#include "lem/cell_grid.hpp"
+#include "lem/cemented_sample.hpp"
+#include "lem/error.hpp"
+#include "lem/files.hpp"
+#include "lem/petsc_handle.hpp"
+#include "lem/phase.hpp"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <random>
+#include <set>
+#include <string>
+
+using namespace lem;
+namespace fs = std::filesystem;
+
+TEST(Phases, NamesParseBackToTheirCodes) {
+  for (int k = 0; k < kPhaseCount; ++k) {
+    const Phase phase = static_cast<Phase>(k);
+    ASSERT_TRUE(parse_phase(phase_name(phase)).has_value());
+    EXPECT_EQ(*parse_phase(phase_name(phase)), phase);
+  }
+  EXPECT_STREQ(phase_name(Phase::pm), "pm");
+  EXPECT_FALSE(parse_phase("mp").has_value());
+  EXPECT_FALSE(parse_phase("").has_value());
+}
+
+TEST(Phases, TableDefaultsAreThePaperRatios) {
+  const PhaseTable t;
+  const auto at = [](Phase p) { return static_cast<int>(p); };
+  EXPECT_EQ(t.modulus, kDefaultPhaseModulus);
+  EXPECT_EQ(t.strength, kDefaultPhaseStrength);
+  EXPECT_DOUBLE_EQ(t.modulus[at(Phase::p)], 3 * t.modulus[at(Phase::m)]);
+  EXPECT_DOUBLE_EQ(t.modulus[at(Phase::pm)], t.modulus[at(Phase::m)]);
+  EXPECT_DOUBLE_EQ(t.strength[at(Phase::p)], t.strength[at(Phase::m)]);
+  EXPECT_EQ(t.strength[at(Phase::pp)], 0.0);
+}
+
+namespace {
+
+class Files : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("lem_files_" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  static std::string read(const std::string& p) {
+    std::ifstream in(p, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), {}};
+  }
+  fs::path dir_;
+};
+
+}  // namespace
+
+TEST_F(Files, TextReplacesTheFileWholeAndLeavesNoTemporary) {
+  write_text_file_atomically(path("a.csv"), "x,y\n1,2\n");
+  write_text_file_atomically(path("a.csv"), "x\n");
+  EXPECT_EQ(read(path("a.csv")), "x\n");
+  write_text_file_atomically(path("empty"), "");
+  EXPECT_EQ(read(path("empty")), "");
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir_), fs::directory_iterator()), 2);
+}
+
+TEST_F(Files, UnwritableTextNamesTheFile) {
+  const std::string bad = path("no_such_dir/a.csv");
+  try {
+    write_text_file_atomically(bad, "x");
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(bad), std::string::npos) << e.what();
+  }
+}
+
+TEST_F(Files, MoveIntoPlacePublishesAndNamesBothFilesOnFailure) {
+  { std::ofstream(path("log.part")) << "line\n"; }
+  move_into_place(path("log.part"), path("log.csv"));
+  EXPECT_EQ(read(path("log.csv")), "line\n");
+  EXPECT_FALSE(fs::exists(path("log.part")));
+  try {
+    move_into_place(path("missing.part"), path("out.csv"));
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("missing.part"), std::string::npos) << what;
+    EXPECT_NE(what.find("out.csv"), std::string::npos) << what;
+  }
+}
+
+TEST(Errors, ExitStatusFollowsTheType) {
+  EXPECT_EQ(exit_status(InputError("x")), 1);
+  EXPECT_EQ(exit_status(NumericalError("x")), 2);
+  EXPECT_EQ(exit_status(PetscFailure("KSPSolve", 1)), 3);
+  EXPECT_EQ(exit_status(std::runtime_error("x")), 3);
+  EXPECT_EQ(exit_status(Interrupted("x")), 4);
+  EXPECT_EQ(exit_status(HelpShown("x")), 0);
+}
+
+TEST(PetscHandles, DestroyTheirObjectAndMoveOwnership) {
+  VecHandle v;
+  ASSERT_EQ(VecCreateSeq(PETSC_COMM_SELF, 4, v.replace()), 0);
+  ASSERT_TRUE(v);
+  // A second reference shows when the handle lets go of its own.
+  Vec watcher = v;
+  ASSERT_EQ(PetscObjectReference(reinterpret_cast<PetscObject>(watcher)), 0);
+  PetscInt references = 0;
+  PetscObjectGetReference(reinterpret_cast<PetscObject>(watcher), &references);
+  EXPECT_EQ(references, 2);
+  {
+    VecHandle moved(std::move(v));
+    EXPECT_FALSE(v);
+    EXPECT_EQ(moved.get(), watcher);
+  }
+  PetscObjectGetReference(reinterpret_cast<PetscObject>(watcher), &references);
+  EXPECT_EQ(references, 1);
+  VecDestroy(&watcher);
+}
+
+TEST(ByteStream, RoundTripAndShortInput) {
+  ByteWriter w;
+  w.pod(std::int64_t{-7});
+  w.vec(std::vector<double>{1.5, 2.5});
+  w.str("pm");
+  ByteReader r(w.bytes, w.bytes.size());
+  std::int64_t i = 0;
+  std::vector<double> v;
+  std::string s;
+  r.pod(i);
+  r.vec(v);
+  r.str(s);
+  EXPECT_EQ(i, -7);
+  EXPECT_EQ(v, (std::vector<double>{1.5, 2.5}));
+  EXPECT_EQ(s, "pm");
+  EXPECT_TRUE(r.at_end());
+  ByteReader short_reader(w.bytes, 4);
+  EXPECT_THROW(short_reader.pod(i), std::runtime_error);
+}
+
+TEST(CellGrid, FindsEveryPointWithinTheCellSide) {
+  const Box box{{0.0, -1.0, 2.0}, {1.0, 0.5, 2.3}};  // thinner than a cell along z
+  const double radius = 0.13;
+  std::mt19937_64 g(4);
+  std::uniform_real_distribution<double> u(-0.05, 1.05);  // some points outside the box
+  std::vector<Point> points(400);
+  for (Point& p : points)
+    for (int a = 0; a < 3; ++a) p[a] = box.lo[a] + u(g) * box.length(a);
+  const CellGrid grid(box, radius);
+  std::vector<std::vector<int>> cells(grid.cell_count());
+  for (std::size_t i = 0; i < points.size(); ++i)
+    cells[grid.cell_of(points[i])].push_back(static_cast<int>(i));
+  const auto close = [&](const Point& p, const Point& q) {
+    const double dx = p[0] - q[0], dy = p[1] - q[1], dz = p[2] - q[2];
+    return dx * dx + dy * dy + dz * dz < radius * radius;
+  };
+  for (const Point& p : points) {
+    std::set<int> found, expected;
+    grid.for_each_cell_near(p, [&](std::size_t cell) {
+      for (int q : cells[cell])
+        if (close(p, points[q])) found.insert(q);
+      return true;
+    });
+    for (std::size_t q = 0; q < points.size(); ++q)
+      if (close(p, points[q])) expected.insert(static_cast<int>(q));
+    ASSERT_EQ(found, expected);
+  }
+  // A box registered in every cell it touches is found from any point inside.
+  const Point lo{0.2, -0.4, 2.05}, hi{0.6, 0.1, 2.2};
+  std::set<std::size_t> touched;
+  grid.for_each_cell_touching(lo, hi, [&](std::size_t cell) { touched.insert(cell); });
+  for (const Point& p : points) {
+    bool inside = true;
+    for (int a = 0; a < 3; ++a) inside = inside && p[a] >= lo[a] && p[a] <= hi[a];
+    if (inside) {
+      EXPECT_TRUE(touched.count(grid.cell_of(p)));
+    }
+  }
+}
