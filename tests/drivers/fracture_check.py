@@ -144,8 +144,9 @@ def fcc(a):
     check.equal("rows of broken.csv", len(broken), inclined)
     check.equal("their steps", sorted({int(r["step"]) for r in broken}), [first])
     check.equal("their cycle", sorted({int(r["cycle"]) for r in broken}), [0])
-    # Every broken bond is an inclined one: its midpoint has a half-integer
-    # z layer (z/h odd, h = c/2 the grid step); in-plane bonds lie in layers.
+    # Every broken bond is an inclined one: its midpoint lies half-way between
+    # two z layers of sites (z / (h/2) odd, h = c/2 the layer spacing), while
+    # the in-plane bonds lie in a layer.
     h = side / (2 * n)
     odd = sum(1 for r in broken if round(float(r["z"]) / (h / 2)) % 2 == 1)
     check.equal("broken bonds between z layers", odd, inclined)
@@ -158,6 +159,7 @@ def fcc(a):
     check.close("largest force/threshold", ratio.max(), expected_ratio, rtol=1e-5)
     check.close("smallest force/threshold", ratio.min(), expected_ratio, rtol=1e-5)
     last = np.flatnonzero(c["step"] == first)
+    check.equal("curve has step first", len(last), 1)
     if len(last):
         i = last[0]
         check.close("stress before the ruptures", c["stress_before_norm"][i],
