@@ -11,18 +11,28 @@
 //            PCSetUp (PC rebuilt; GAMG may reuse its interpolation), then CG from a zero
 //            initial guess on b = K u_first, i.e. the same problem.  The PC set
 //            up in one repeat is the one kept for the solve of that repeat.
+//
+// -bench_voronoi N times voronoi_volumes() (serial, on rank 0) on a random
+// lattice of N nodes instead, -bench_repeat times, and prints the median
+// (it used to be a "test" of the unit suite):
+//
+//   lem_bench -bench_voronoi 200000 -lattice_seed 3
 #include "lem/driver.hpp"
 #include "lem/elastic_system.hpp"
 #include "lem/error.hpp"
 #include "lem/options.hpp"
 #include "lem/petsc_handle.hpp"
 #include "lem/setup.hpp"
+#include "lem/voronoi.hpp"
 
 #include <sys/resource.h>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <memory>
+#include <numeric>
 #include <string>
 #include <vector>
 
@@ -121,6 +131,34 @@ void print_levels(KSP ksp) {
            static_cast<int>(levels), text.c_str(), total / fine);
 }
 
+// Box-clipped Voronoi volumes of a random lattice, timed on rank 0 (the
+// routine is serial).  The volumes must tile the box, or the figure is void.
+void bench_voronoi(MPI_Comm comm, lem::RandomLatticeSpec spec, std::int64_t repeat) {
+  lem::run_on_root(comm, [&] {
+    double t = MPI_Wtime();
+    const lem::Lattice lattice = lem::make_random_lattice(spec);
+    const double generation = MPI_Wtime() - t;
+    std::vector<double> seconds;
+    double gap = 0;
+    for (std::int64_t r = 0; r < std::max<std::int64_t>(repeat, 1); ++r) {
+      t = MPI_Wtime();
+      const std::vector<double> v = lem::voronoi_volumes(lattice);
+      seconds.push_back(MPI_Wtime() - t);
+      const double volume = lattice.box.volume();
+      gap = std::fabs(std::accumulate(v.begin(), v.end(), 0.0) - volume) / volume;
+      if (gap > 1e-10) throw lem::NumericalError("Voronoi volumes do not tile the box");
+    }
+    std::printf("voronoi_volumes: %zu nodes, %zu bonds (generation %.2f s): median %.3f s "
+                "over %zu runs (min %.3f, max %.3f); |sum - V|/V = %.1e\n",
+                lattice.node_count(), lattice.bond_count(), generation, median(seconds),
+                seconds.size(), *std::min_element(seconds.begin(), seconds.end()),
+                *std::max_element(seconds.begin(), seconds.end()), gap);
+    std::printf("# VORONOI columns: nodes,bonds,generation_s,median_s,runs\n");
+    std::printf("VORONOI,%zu,%zu,%.3f,%.4f,%zu\n", lattice.node_count(), lattice.bond_count(),
+                generation, median(seconds), seconds.size());
+  });
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -129,6 +167,7 @@ int main(int argc, char** argv) {
     std::int64_t bonds = 0, repeat = 0, matmults = 0;
     bool morton = true;
     double stream_mb = 0;
+    std::int64_t voronoi_nodes = 0;
     {
       lem::OptionGroup g(comm, "Benchmark");
       bonds = g.integer("-bench_bonds", "Approximate number of bonds", 1300000, 100, 2'000'000'000);
@@ -137,11 +176,21 @@ int main(int argc, char** argv) {
       matmults = g.integer("-bench_matmult", "Fine-level MatMults timed", 20, 1, 10000);
       stream_mb = g.real("-bench_stream_mb", "STREAM array size per rank (MB, x3 arrays)", 80.0,
                          1.0, 1e5);
+      voronoi_nodes = g.integer("-bench_voronoi", "Time voronoi_volumes() on a random lattice of "
+                                "this many nodes instead (0: the tension benchmark)", 0, 0,
+                                2'000'000'000);
       for (const char* o : {"-lattice_nodes", "-lattice_bonds", "-lattice_Ln", "-lattice_type"})
         if (g.given(o)) throw lem::InputError(std::string(o) + ": lem_bench sets the size with "
                                               "-bench_bonds (random lattices only)");
     }
     lem::check_option_names({"bench_", "lattice_"});
+    if (voronoi_nodes > 0) {
+      lem::check_unused_options();
+      sample.random.nodes = voronoi_nodes;
+      sample.random.bonds = 0;
+      bench_voronoi(comm, sample.random, repeat);
+      return;
+    }
     sample.random.nodes = 0;
     sample.random.bonds = bonds;
     int ranks = 1;

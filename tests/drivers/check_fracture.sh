@@ -41,24 +41,7 @@ wait_for_checkpoint() {  # DIR: until a checkpoint with some ruptures behind it 
 rm -rf "$work"; mkdir -p "$work"
 
 compare_curves() {  # compare_curves A B TOL: rows of A's steps found in B agree
-  $py - "$1/curve.csv" "$2/curve.csv" "$3" <<'EOF' || exit 1
-import csv, sys
-def rows(p):
-    return {int(r["step"]): r for r in csv.DictReader(l for l in open(p) if not l.startswith("#"))}
-a, b, tol = rows(sys.argv[1]), rows(sys.argv[2]), float(sys.argv[3])
-peak = max(abs(float(r["stress_norm"])) for r in b.values())
-worst = 0.0
-for step, r in a.items():
-    if step not in b:
-        sys.exit(f"FAIL: step {step} missing in {sys.argv[2]}")
-    for k in ("stress_before_norm", "stress_norm"):
-        worst = max(worst, abs(float(r[k]) - float(b[step][k])) / peak)
-    if r["broken"] != b[step]["broken"]:
-        sys.exit(f"FAIL: broken count differs at step {step}")
-print(f"curves: {len(a)} rows compared, largest stress difference {worst:.2e} of the peak")
-if worst > tol:
-    sys.exit(f"FAIL: stress differs by {worst:.2e} of the peak (tolerance {tol})")
-EOF
+  $py "$(dirname "$0")/fracture_check.py" curves "$1" "$2" "$3" || exit 1
 }
 summary() { $py -c "import json,sys; print(json.load(open(sys.argv[1]))[sys.argv[2]])" "$1/summary.json" "$2"; }
 

@@ -8,9 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <numeric>
 #include <random>
 
@@ -248,18 +246,4 @@ TEST(Voronoi, DelaunayNeighboursGiveTheTrueVoronoiCell) {
     EXPECT_NEAR(clipped_cell_volume(l.box, l.nodes[i], others), v[i], 1e-13 * v[i])
         << "node " << i;
   }
-}
-
-TEST(Voronoi, TimingFor2e5Nodes) {
-  RandomLatticeSpec spec;
-  spec.nodes = 200000;
-  spec.seed = 3;
-  const Lattice l = make_random_lattice(spec);
-  const auto t0 = std::chrono::steady_clock::now();
-  const auto v = voronoi_volumes(l);
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  std::printf("[ timing   ] voronoi_volumes: %zu nodes, %zu bonds: %.2f s, sum - V = %.3g\n",
-              l.node_count(), l.bond_count(), seconds, sum(v) - l.box.volume());
-  EXPECT_NEAR(sum(v), l.box.volume(), 1e-10 * l.box.volume());
 }
