@@ -214,7 +214,6 @@ int main(int argc, char** argv) {
     s.add("final_strain", r.final_strain);
     s.add("final_stress_over_sigma_unit", r.final_stress * c.stress_unit / options.strength_unit);
     s.add("broken", static_cast<long long>(r.broken_total()));
-    static_assert(lem::kBondPhases == lem::kPhaseCount);
     for (int k = 0; k < lem::kPhaseCount; ++k)
       if (static_cast<lem::Phase>(k) != lem::Phase::v)
         s.add(std::string("broken_") + lem::kPhaseNames[k], static_cast<long long>(r.broken[k]));

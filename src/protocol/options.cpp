@@ -84,17 +84,14 @@ FractureOptions read_fracture_options(MPI_Comm comm) {
     const std::string phases = g.string("-strength_disorder_phases", "Comma-separated bond "
                                         "phases that get the factor (p, m, pp, pm)",
                                         "p,m,pp,pm");
-    const char* names[kBondPhases] = {"p", "m", "v", "pp", "pm"};
     o.disorder_phases.fill(false);
     std::stringstream list(phases);
     for (std::string item; std::getline(list, item, ',');) {
-      int found = -1;
-      for (int k = 0; k < kBondPhases; ++k)
-        if (item == names[k] && k != 2) found = k;
-      if (found < 0)
+      const auto phase = parse_phase(item);
+      if (!phase || *phase == Phase::v)  // void bonds carry nothing
         throw InputError("option -strength_disorder_phases: '" + item + "' is not a bond "
                          "phase; allowed: p, m, pp, pm");
-      o.disorder_phases[found] = true;
+      o.disorder_phases[static_cast<int>(*phase)] = true;
     }
   }
   {

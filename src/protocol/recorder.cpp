@@ -2,6 +2,7 @@
 
 #include "lem/driver.hpp"
 #include "lem/error.hpp"
+#include "lem/files.hpp"
 #include "lem/node_stress.hpp"
 #include "lem/summary.hpp"
 #include "lem/tension_output.hpp"
@@ -13,10 +14,6 @@
 #include <unistd.h>
 
 namespace lem {
-
-namespace {
-const char* const kPhaseNames[kBondPhases] = {"p", "m", "v", "pp", "pm"};
-}
 
 FractureRecorder::FractureRecorder(const DistributedLattice& lattice, const ElasticSystem& system,
                                    const FractureOptions& options, const Provenance& provenance)
@@ -157,9 +154,7 @@ void FractureRecorder::finish() {
   run_on_root(lattice_.comm, [&] {
     curve_.reset();
     broken_.reset();
-    for (const std::string& path : {curve_path_, broken_path_})
-      if (std::rename((path + ".part").c_str(), path.c_str()) != 0)
-        throw InputError("cannot rename '" + path + ".part': " + std::strerror(errno));
+    for (const std::string& path : {curve_path_, broken_path_}) move_into_place(path + ".part", path);
   });
 }
 

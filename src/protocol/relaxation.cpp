@@ -2,27 +2,17 @@
 
 #include "lem/collective.hpp"
 #include "lem/error.hpp"
+#include "lem/log.hpp"
 
 #include <algorithm>
 
 namespace lem {
 
-namespace {
-PetscLogStage rupture_stage() {
-  static PetscLogStage stage = [] {
-    PetscLogStage s;
-    PetscLogStageRegister("Ruptures", &s);
-    return s;
-  }();
-  return stage;
-}
-}  // namespace
-
 Relaxation::Relaxation(const RelaxationParts& parts) : p_(parts), pieces_(parts.lattice) {}
 
 bool Relaxation::break_batch(const std::vector<Rupture>& batch, std::int64_t step, int cycle,
                              double strain) {
-  LEM_PETSC(PetscLogStagePush(rupture_stage()));
+  LogStageScope stage("Ruptures");
   p_.ledger.open_batch();
   std::vector<std::int64_t> ids;
   ids.reserve(batch.size());
@@ -48,7 +38,7 @@ bool Relaxation::break_batch(const std::vector<Rupture>& batch, std::int64_t ste
   }
   p_.tally.pieces = pieces.pieces;
   p_.system.finish_updates();
-  LEM_PETSC(PetscLogStagePop());
+  stage.pop();
   p_.solver.note_ruptures(static_cast<std::int64_t>(batch.size()));
   return pieces.faces_joined;
 }

@@ -2,6 +2,8 @@
 // compared past this point).
 #pragma once
 
+#include "lem/phase.hpp"
+
 #include <mpi.h>
 
 #include <array>
@@ -9,8 +11,6 @@
 #include <string>
 
 namespace lem {
-
-inline constexpr int kBondPhases = 5;  // p, m, v, pp, pm (lem::Phase order)
 
 /// Which critical bonds break in one relaxation cycle.
 enum class BreakRule { all, most_critical };  // all: the paper's rule
@@ -44,7 +44,7 @@ struct FractureOptions {
   double disorder_width = 0.0;       // uniform: factor in [1 - w, 1 + w]
   double weibull_modulus = 6.0;      // weibull: mean-one Weibull factor
   std::uint64_t disorder_seed = 1;
-  std::array<bool, kBondPhases> disorder_phases{true, true, false, true, true};
+  std::array<bool, kPhaseCount> disorder_phases{true, true, false, true, true};
   // Checkpoints (0: never by that criterion); also on SIGTERM / SIGUSR1.
   std::int64_t checkpoint_steps = 0;
   double checkpoint_seconds = 600;

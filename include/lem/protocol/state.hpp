@@ -29,7 +29,7 @@ struct FractureTally {
   std::int64_t patch_solves = 0, patch_iterations = 0, patch_nodes = 0, patch_overflows = 0;
   double patch_error_max = 0;
   std::int64_t patch_disabled_step = 0;  // step at which patches were given up (0: never)
-  std::array<std::int64_t, kBondPhases> broken{};  // per phase
+  std::array<std::int64_t, kPhaseCount> broken{};  // per phase
   std::int64_t detached_bonds = 0, pinned_nodes = 0;
   std::int64_t pieces = 1;         // connected pieces of unpinned nodes
   double work = 0;                 // external work, trapezoidal rule over the curve
