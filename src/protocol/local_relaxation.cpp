@@ -9,21 +9,15 @@
 
 namespace lem {
 
-namespace {
-std::int64_t cell_key(std::int64_t i, std::int64_t j, std::int64_t k) {
-  return (i * 73856093) ^ (j * 19349663) ^ (k * 83492791);
-}
-}  // namespace
-
-LocalRelaxation::LocalRelaxation(const RelaxationParts& parts) : Relaxation(parts) {
+LocalRelaxation::LocalRelaxation(const RelaxationParts& parts)
+    : Relaxation(parts),
+      radius_(parts.options.patch_radius * parts.lattice.mean_bond_length),
+      grid_(parts.lattice.box, radius_),
+      cells_(grid_.cell_count()) {
   const DistributedLattice& l = p_.lattice;
-  cell_ = p_.options.patch_radius * l.mean_bond_length;
   std::int64_t free = 0;
   for (int n = 0; n < l.owned; ++n) {
-    const auto& x = l.coords[n];
-    cells_[cell_key(std::llround(std::floor(x[0] / cell_)), std::llround(std::floor(x[1] / cell_)),
-                    std::llround(std::floor(x[2] / cell_)))]
-        .push_back(n);
+    cells_[grid_.cell_of(l.coords[n])].push_back(n);
     free += (l.dof_flags[n] & (kFixX | kFixY | kFixZ)) != (kFixX | kFixY | kFixZ);
   }
   MPI_Allreduce(&free, &free_nodes_, 1, MPI_INT64_T, MPI_SUM, l.comm);
@@ -38,26 +32,20 @@ LocalRelaxation::LocalRelaxation(const RelaxationParts& parts) : Relaxation(part
   LEM_PETSC(KSPDestroy(&ksp));
 }
 
-std::vector<int> LocalRelaxation::patch_nodes(const std::vector<Rupture>& batch) const {
+std::vector<int> LocalRelaxation::patch_nodes(const std::vector<Rupture>& ruptures) const {
   const DistributedLattice& l = p_.lattice;
-  const double r2 = cell_ * cell_;
+  const double r2 = radius_ * radius_;
   std::vector<char> in(l.owned, 0);
-  for (const Rupture& x : batch) {
-    const double c[3] = {x.x, x.y, x.z};
-    const std::int64_t i = std::llround(std::floor(c[0] / cell_)),
-                       j = std::llround(std::floor(c[1] / cell_)),
-                       k = std::llround(std::floor(c[2] / cell_));
-    for (std::int64_t di = -1; di <= 1; ++di)
-      for (std::int64_t dj = -1; dj <= 1; ++dj)
-        for (std::int64_t dk = -1; dk <= 1; ++dk) {
-          const auto it = cells_.find(cell_key(i + di, j + dj, k + dk));
-          if (it == cells_.end()) continue;
-          for (int n : it->second) {
-            double d2 = 0;
-            for (int a = 0; a < 3; ++a) d2 += (l.coords[n][a] - c[a]) * (l.coords[n][a] - c[a]);
-            if (d2 <= r2) in[n] = 1;
-          }
-        }
+  for (const Rupture& x : ruptures) {
+    const Point c{x.x, x.y, x.z};
+    grid_.for_each_cell_near(c, [&](std::size_t cell) {
+      for (int n : cells_[cell]) {
+        double d2 = 0;
+        for (int a = 0; a < 3; ++a) d2 += (l.coords[n][a] - c[a]) * (l.coords[n][a] - c[a]);
+        if (d2 <= r2) in[n] = 1;
+      }
+      return true;
+    });
   }
   std::vector<int> nodes;
   for (int n = 0; n < l.owned; ++n)

@@ -24,7 +24,8 @@
 
 #include "lem/protocol/relaxation.hpp"
 
-#include <unordered_map>
+#include "lem/cell_grid.hpp"
+
 #include <vector>
 
 namespace lem {
@@ -46,8 +47,9 @@ class LocalRelaxation : public Relaxation {
   double patch_error(const std::vector<double>& patch_tensions,
                      const std::vector<double>& global_tensions) const;
 
-  double cell_ = 1;  // grid cell: the patch radius
-  std::unordered_map<std::int64_t, std::vector<int>> cells_;  // owned nodes by cell
+  double radius_ = 1;  // the patch radius, lattice units
+  CellGrid grid_;      // cells at least the patch radius wide
+  std::vector<std::vector<int>> cells_;  // owned nodes by cell
   std::int64_t free_nodes_ = 0;  // global count of owned nodes with a free dof
   double mean_threshold_ = 0;    // of the positive thresholds
 };
