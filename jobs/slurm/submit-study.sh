@@ -15,7 +15,7 @@ task="$root/jobs/slurm/study-task.sh"
 py=/usr/bin/python3
 # Checks the study file and the output folder before anything is queued.
 $py "$root/tools/study.py" plan "$study" "$out"
-count() { $py -c "import sys; sys.path.insert(0, '$root/tools'); import study; s = study.Study('$study', '$out'); print($1)"; }
+count() { PYTHONPATH="$root/tools" $py -c "from lem_tools.study import Study; s = Study('$study', '$out'); print($1)"; }
 samples=$(count "len(s.spec['matrix_fractions'])")
 runs=$(count "len(s.runs())")
 ranks=$(count "s.spec['ranks']")
