@@ -31,7 +31,8 @@ struct Case {
 };
 
 // Set up the sample, run the protocol, write the curve and the fields.
-Case run_case(MPI_Comm comm, const lem::SampleOptions& sample, double break_strain,
+Case run_case(MPI_Comm comm, const lem::SampleOptions& sample,
+              const lem::SolverOptions& solver, double break_strain,
               lem::FractureOptions options, const lem::Provenance& provenance,
               bool write_fields) {
   Case c;
@@ -52,7 +53,8 @@ Case run_case(MPI_Comm comm, const lem::SampleOptions& sample, double break_stra
   lem::say("lattice: %lld nodes, %lld bonds in the system, a = %.4g; output %s/\n",
            (long long)c.setup.sample.stats.nodes, (long long)c.setup.active_bonds,
            lattice.mean_bond_length, options.output_dir.c_str());
-  lem::ElasticSystem system(lattice);
+  lem::ElasticSystem system(lattice, solver);
+  lem::check_unused_options(lem::SolverStage::created);
   system.assemble();
   c.result = lem::run_fracture(lattice, system, options, provenance);
   if (write_fields) {
@@ -94,8 +96,8 @@ int main(int argc, char** argv) {
                                          "snapshot_<step>.h5/.xmf) once in every this many "
                                          "load steps (0: never)", 0, 0, 1'000'000'000);
     }
-    lem::check_option_names({"lattice_", "fcc_", "inclusion_", "sample_", "phase_", "output_",
-                             "fracture_", "strength_", "checkpoint_"});
+    const lem::SolverOptions solver = lem::read_solver_options(comm);
+    lem::check_option_names(comm);
     const bool from_file = !sample.sample_file.empty();
     const auto provenance = lem::collect_provenance(comm, "lem_fracture");
     // A run that will resume keeps the first-equilibrium fields written
@@ -126,7 +128,7 @@ int main(int argc, char** argv) {
       lem::prepare_output_dir(comm, hom_options.output_dir, {"curve.csv", "broken.csv"});
       lem::say("calibration: the homogeneous lattice (every bond E^p = %g, sigma^p = %g)\n", e_p,
                s_p);
-      const Case hom_case = run_case(comm, hom, break_strain, hom_options, provenance, false);
+      const Case hom_case = run_case(comm, hom, solver, break_strain, hom_options, provenance, false);
       sigma_hom = hom_case.result.peak_stress * hom_case.stress_unit;
       e_hom = hom_case.result.young_modulus * hom_case.stress_unit;
       lem::say("calibration: sigma^[p] = %.6g, E^[p] = %.6g (E^phase units)\n", sigma_hom, e_hom);
@@ -135,7 +137,7 @@ int main(int argc, char** argv) {
                                                       : from_file ? s_p : 1.0;
     options.modulus_unit = modulus_unit > 0 ? modulus_unit : e_hom > 0 ? e_hom
                                                       : from_file ? e_p : 1.0;
-    const Case c = run_case(comm, sample, break_strain, options, provenance, fields);
+    const Case c = run_case(comm, sample, solver, break_strain, options, provenance, fields);
 
     const lem::FractureResult& r = c.result;
     const double e_eff = r.young_modulus * c.stress_unit, s_eff = r.peak_stress * c.stress_unit;

@@ -24,6 +24,7 @@
 
 #include "lem/error.hpp"
 #include "lem/hdf5_util.hpp"
+#include "lem/options.hpp"
 
 #ifndef LEM_VERSION
 #define LEM_VERSION "unknown"
@@ -399,7 +400,7 @@ std::string iso8601_utc_now() {
   return buffer;
 }
 
-/// PetscOptionsGetAll gives "-a 1 -b -c x "; put one option (with its value) per line.
+/// options_as_text gives "-a 1 -b -c x "; put one option (with its value) per line.
 /// A token starts a new option when it is '-' followed by a letter or '_'
 /// (so negative numbers stay values).
 std::string options_one_per_line(const std::string& all) {
@@ -577,15 +578,13 @@ Provenance collect_provenance(MPI_Comm comm, const std::string& program) {
     start_time = iso8601_utc_now();
     PetscBool initialized = PETSC_FALSE;
     if (PetscInitialized(&initialized) == 0 && initialized) {
-      char* all = nullptr;
-      const PetscErrorCode ierr = PetscOptionsGetAll(nullptr, &all);
-      if (ierr != 0) {
-        error.set(ErrorKind::runtime,
-                  "collect_provenance: PetscOptionsGetAll failed with error " + std::to_string(ierr));
-      } else {
-        options = options_one_per_line(all != nullptr ? all : "");
+      // The options given and the solver defaults that none of them
+      // overrides (the defaults are set on the objects, not in the database).
+      try {
+        options = options_one_per_line(options_as_text());
+      } catch (const std::exception& e) {
+        error.set(ErrorKind::runtime, std::string("collect_provenance: ") + e.what());
       }
-      if (all != nullptr) PetscFree(all);
     }
   }
   raise_collectively(comm, error);
