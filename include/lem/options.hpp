@@ -94,6 +94,11 @@ class OptionGroup {
 /// HelpShown: every driver calls it once its options are read.
 void check_option_names(MPI_Comm comm);
 
+/// A PETSc type option (-ksp_type, -pc_type, ...), if given, must name one of
+/// `types` (e.g. KSPList): checked before any work instead of failing in
+/// KSPSetFromOptions.  Does not mark the option used.
+void check_type_option(const char* name, PetscFunctionList types, const char* kind);
+
 /// When the check of PETSc's options runs.
 enum class SolverStage {
   created,  // the KSP, PC and matrix have read their options (before the first solve)

@@ -91,46 +91,63 @@ bool has_any_prefix(const std::string& s, const char* const (&prefixes)[N]) {
                      [&](const char* p) { return has_prefix(s, p); });
 }
 
-// Option names ("-x") present in the database.
-std::vector<std::string> option_names() {
+// The database as (name, value) pairs, names with the dash; read without
+// marking anything used.
+std::vector<std::pair<std::string, std::string>> database() {
   char* all = nullptr;
   LEM_PETSC(PetscOptionsGetAll(nullptr, &all));
   std::istringstream in(all ? all : "");
   LEM_PETSC(PetscFree(all));
-  std::vector<std::string> names;
+  std::vector<std::pair<std::string, std::string>> options;
   std::string token;
   while (in >> token) {
     // Values may be negative numbers; names start with '-' and a letter.
     if (token.size() > 1 && token[0] == '-' && std::isalpha(static_cast<unsigned char>(token[1])))
-      names.push_back(token);
+      options.emplace_back(token, "");
+    else if (!options.empty())
+      options.back().second += (options.back().second.empty() ? "" : " ") + token;
   }
+  return options;
+}
+
+std::vector<std::string> option_names() {
+  std::vector<std::string> names;
+  for (const auto& option : database()) names.push_back(option.first);
   return names;
 }
 
+// Edits (insert, delete, substitute, swap two neighbours) from a to b.
 std::size_t edit_distance(const std::string& a, const std::string& b) {
-  std::vector<std::size_t> row(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (std::size_t i = 1; i <= a.size(); ++i) {
-    std::size_t diagonal = row[0];
-    row[0] = i;
+  std::vector<std::vector<std::size_t>> d(a.size() + 1, std::vector<std::size_t>(b.size() + 1));
+  for (std::size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
+  for (std::size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i)
     for (std::size_t j = 1; j <= b.size(); ++j) {
-      const std::size_t up = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] != b[j - 1])});
-      diagonal = up;
+      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1,
+                          d[i - 1][j - 1] + (a[i - 1] != b[j - 1])});
+      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1])
+        d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
     }
+  return d[a.size()][b.size()];
+}
+
+// The candidate closest to `word`, if it is close enough to be a typo.
+const std::string* nearest(const std::string& word, const std::vector<std::string>& candidates) {
+  const std::string* best = nullptr;
+  std::size_t best_distance = 4;  // more edits than this is not a typo
+  for (const auto& c : candidates) {
+    const std::size_t d = edit_distance(lower(word), lower(c));
+    if (d < best_distance) best_distance = d, best = &c;
   }
-  return row[b.size()];
+  return best;
 }
 
 // " (did you mean -x?)" for the closest registered name, if it is close.
 std::string suggestion(const std::string& name) {
-  const OptionRecord* best = nullptr;
-  std::size_t best_distance = 4;  // more edits than this is not a typo
-  for (const auto& r : registry()) {
-    const std::size_t d = edit_distance(lower(name), lower(r.name));
-    if (d < best_distance) best_distance = d, best = &r;
-  }
-  return best ? " (did you mean " + best->name + "?)" : "";
+  std::vector<std::string> names;
+  for (const auto& r : registry()) names.push_back(r.name);
+  const std::string* best = nearest(name, names);
+  return best ? " (did you mean " + *best + "?)" : "";
 }
 
 // Words of `text` in lines of at most `width` characters, each indented.
@@ -161,10 +178,11 @@ std::string registry_as_help() {
     text += ":\n";
     for (const auto& r : registry()) {
       if (r.group != group) continue;
-      const std::string now = r.given ? r.value : r.default_value;
+      auto shown = [](const std::string& v) { return v.empty() ? std::string("\"\"") : v; };
       std::ostringstream line;
-      line << "  " << r.name << " <" << now << ">";
-      if (r.given && r.value != r.default_value) line << " (default " << r.default_value << ")";
+      line << "  " << r.name << " <" << shown(r.given ? r.value : r.default_value) << ">";
+      if (r.given && r.value != r.default_value)
+        line << " (default " << shown(r.default_value) << ")";
       text += line.str();
       text += '\n';
       text += wrapped(r.help, 6, 96);
@@ -334,6 +352,25 @@ bool OptionGroup::given(const char* name) const {
   PetscBool set = PETSC_FALSE;
   LEM_PETSC(PetscOptionsHasName(nullptr, nullptr, name, &set));
   return set == PETSC_TRUE;
+}
+
+void check_type_option(const char* name, PetscFunctionList types, const char* kind) {
+  for (const auto& [option, value] : database()) {
+    if (lower(option) != lower(name)) continue;
+    void (*create)(void) = nullptr;
+    LEM_PETSC(PetscFunctionListFind(types, value.c_str(), &create));
+    if (create) continue;
+    const char** names = nullptr;
+    int n = 0;
+    LEM_PETSC(PetscFunctionListGet(types, &names, &n));
+    std::vector<std::string> known;
+    for (int i = 0; i < n; ++i)
+      if (names[i]) known.emplace_back(names[i]);
+    LEM_PETSC(PetscFree(names));
+    const std::string* best = nearest(value, known);
+    throw InputError("option " + option + " = '" + value + "' is not a " + kind + " type known "
+                     "to PETSc" + (best ? " (did you mean " + *best + "?)" : std::string()));
+  }
 }
 
 void check_option_names(MPI_Comm comm) {

@@ -126,6 +126,15 @@ SolverOptions read_solver_options(MPI_Comm comm) {
   OptionGroup g(comm, "Linear solver (defaults set on PETSc's objects; any -ksp_*, -pc_*, "
                       "-mg_* or -mat_* option overrides them)");
   for (const SolverDefault& d : kSolverDefaults) g.petsc_default(d.name, d.help, d.value);
+  // Misspelt types fail here, before any work, rather than in KSPSetFromOptions.
+  LEM_PETSC(KSPInitializePackage());
+  LEM_PETSC(PCInitializePackage());
+  for (const char* prefix : {"-", "-fallback_", "-mg_levels_", "-mg_coarse_"}) {
+    check_type_option((std::string(prefix) + "ksp_type").c_str(), KSPList, "KSP");
+    check_type_option((std::string(prefix) + "pc_type").c_str(), PCList, "PC");
+  }
+  // (-mat_type is left to MatSetFromOptions: "aij", "baij" are root names
+  // outside MatList.)
   PetscBool help = PETSC_FALSE;
   LEM_PETSC(PetscOptionsHasHelp(nullptr, &help));
   if (help) {  // let PETSc list its KSP and PC options, with our defaults as current values
