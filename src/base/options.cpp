@@ -386,9 +386,12 @@ void check_option_names(MPI_Comm comm) {
   LEM_PETSC(PetscOptionsHasHelp(nullptr, &help));
   if (help) {
     LEM_PETSC(PetscPrintf(comm, "%s", registry_as_help().c_str()));
-    throw HelpShown("-help: these are the program's options; the solver also takes PETSc's "
-                    "standard -ksp_*, -pc_* and -mat_* options (docs/user-guide.md). Nothing "
-                    "was run.");
+    const bool solver = std::any_of(registry().begin(), registry().end(),
+                                    [](const OptionRecord& r) { return r.petsc_default; });
+    throw HelpShown(std::string("-help: these are the program's options") +
+                    (solver ? "; the solver also takes PETSc's standard -ksp_*, -pc_* and "
+                              "-mat_* options (docs/user-guide.md)" : "") +
+                    ". Nothing was run.");
   }
 }
 
