@@ -63,22 +63,24 @@ const char* const kPetscPrefixes[] = {
     "get_total_flops", "checkstack"};
 
 // Options that the objects of ElasticSystem read when they are created
-// (KSPSetFromOptions, PCSetFromOptions, MatSetFromOptions, preallocation):
-// these can be checked before the first solve ...
-const char* const kReadAtCreation[] = {"ksp_", "pc_", "mat_", "fallback_"};
+// (KSPSetFromOptions, PCSetFromOptions, including -fallback_*): these can be
+// checked before the first solve ...
+const char* const kReadAtCreation[] = {"ksp_", "pc_", "fallback_"};
 // ... except the ones PETSc reads later.  GAMG builds its levels in PCSetUp:
 // only then does it read -pc_mg_* (PCSetFromOptions_MG cannot run before the
-// levels exist), the level smoothers' and coarse solver's -mg_levels_* and
-// -mg_coarse_* (outside kReadAtCreation anyway), the coarsening's
-// -mat_coarsen_*, the repartitioning's -mat_partitioning_* and the Galerkin
-// products' -mat_product_*; viewers (-ksp_view, -mat_view, ...) and
-// -ksp_converged_reason are read when a solve or an assembly ends.
-const char* const kReadLater[] = {"pc_mg_", "mat_coarsen_", "mat_partitioning_", "mat_product_",
-                                  "pc_gamg_esteig_"};
+// levels exist) and the level smoothers' and coarse solver's -mg_levels_*
+// and -mg_coarse_* (outside kReadAtCreation anyway); some PCs define their
+// parts at set-up too (fieldsplit, BDDC, patch, HPDDM, and the -sub_*
+// solvers of block Jacobi and ASM).  -mat_* options are left to the later
+// check as a whole: the coarsening, repartitioning, Galerkin products and
+// factorisation packages (-mat_mumps_* ...) read theirs at set-up.  Viewers
+// (-ksp_view, ...) and convergence reports are read when a solve ends.
+const char* const kReadLater[] = {"pc_mg_",   "pc_gamg_esteig_", "pc_fieldsplit_",
+                                  "pc_bddc_", "pc_patch_",       "pc_hpddm_"};
 bool read_later(const std::string& bare) {
   for (const char* p : kReadLater)
     if (bare.rfind(p, 0) == 0) return true;
-  for (const char* part : {"view", "converged_reason", "compute_", "plot_"})
+  for (const char* part : {"view", "converged_", "compute_", "plot_"})
     if (bare.find(part) != std::string::npos) return true;
   return false;
 }

@@ -62,7 +62,9 @@ PetscErrorCode multigrid_level_defaults(KSP ksp, Vec, Vec, void*) {
   PC pc;
   PetscCall(KSPGetPC(ksp, &pc));
   PetscBool mg = PETSC_FALSE;
-  PetscCall(PetscObjectTypeCompareAny(reinterpret_cast<PetscObject>(pc), &mg, PCGAMG, PCMG, ""));
+  // ML and HMG are built on PCMG: the level defaults reach them too.
+  PetscCall(PetscObjectTypeCompareAny(reinterpret_cast<PetscObject>(pc), &mg, PCGAMG, PCMG, PCML,
+                                      PCHMG, ""));
   PetscInt levels = 0;
   if (mg) PetscCall(PCMGGetLevels(pc, &levels));
   if (levels > 0) {
