@@ -183,7 +183,8 @@ int main(int argc, char** argv) {
         if (g.given(o)) throw lem::InputError(std::string(o) + ": lem_bench sets the size with "
                                               "-bench_bonds (random lattices only)");
     }
-    lem::check_option_names({"bench_", "lattice_"});
+    const lem::SolverOptions solver = lem::read_solver_options(comm);
+    lem::check_option_names(comm);
     if (voronoi_nodes > 0) {
       lem::check_unused_options();
       sample.random.nodes = voronoi_nodes;
@@ -208,8 +209,9 @@ int main(int argc, char** argv) {
 
     const double delta = 3e-4 * lattice.mean_bond_length;
     lem::ElasticSystem* sys = nullptr;
-    const double t_create = timed(comm, [&] { sys = new lem::ElasticSystem(lattice); });
+    const double t_create = timed(comm, [&] { sys = new lem::ElasticSystem(lattice, solver); });
     std::unique_ptr<lem::ElasticSystem> owner(sys);
+    lem::check_unused_options(lem::SolverStage::created);
     const double t_asm = timed(comm, [&] { sys->assemble(); });
     const lem::SolveReport first = sys->solve(delta);
     lem::check_unused_options();

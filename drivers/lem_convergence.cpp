@@ -25,11 +25,13 @@ namespace {
 
 // E_eff of one sample, in units of k/a, and the CG iteration count.
 std::pair<double, int> young_modulus(MPI_Comm comm, lem::SampleOptions sample,
-                                     const std::string& inclusions, lem::SetupReport& setup) {
+                                     const lem::SolverOptions& solver,
+                                     lem::InclusionType inclusions, lem::SetupReport& setup) {
   sample.inclusion_type = inclusions;
   auto lattice = lem::setup_tension_lattice(
       comm, [&](lem::SampleInfo& info) { return lem::build_sample(sample, info); }, setup);
-  lem::ElasticSystem system(lattice);
+  lem::ElasticSystem system(lattice, solver);
+  lem::check_unused_options(lem::SolverStage::created);
   system.assemble();
   const auto solve = system.solve(3e-4 * lattice.mean_bond_length);
   const double unit = sample.random.stiffness / lattice.mean_bond_length;
@@ -52,8 +54,9 @@ int main(int argc, char** argv) {
     for (double ln : densities)
       if (ln > 0.2) throw lem::InputError("option -convergence_Ln: L_n = " + std::to_string(ln) +
                                           " is too coarse (allowed: <= 0.2)");
-    lem::check_option_names({"lattice_", "inclusion_", "convergence_", "output_", "fcc_"});
-    if (sample.lattice_type != "random")
+    const lem::SolverOptions solver = lem::read_solver_options(comm);
+    lem::check_option_names(comm);
+    if (sample.lattice_type != lem::LatticeType::random)
       throw lem::InputError("lem_convergence needs -lattice_type random");
     lem::prepare_output_dir(comm, dir, {"convergence.csv", "fit.csv"});
     const auto provenance = lem::collect_provenance(comm, "lem_convergence");
@@ -73,12 +76,12 @@ int main(int argc, char** argv) {
       sample.random.bonds = 0;
       sample.random.mesh_density = density;
       lem::SetupReport setup;
-      const auto [em, im] = young_modulus(comm, sample, "none", setup);
+      const auto [em, im] = young_modulus(comm, sample, solver, lem::InclusionType::none, setup);
       if (first_solve) lem::check_unused_options();
       first_solve = false;
       lem::SetupReport ss, sp;
-      const auto [es, is] = young_modulus(comm, sample, "stiff", ss);
-      const auto [ep, ip] = young_modulus(comm, sample, "pore", sp);
+      const auto [es, is] = young_modulus(comm, sample, solver, lem::InclusionType::stiff, ss);
+      const auto [ep, ip] = young_modulus(comm, sample, solver, lem::InclusionType::pore, sp);
       const double m = static_cast<double>(setup.sample.stats.bonds);
       ln.push_back(std::pow(m, -1.0 / 3.0));  // the L_n actually reached
       stiff.push_back(es / em);

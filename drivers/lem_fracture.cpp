@@ -61,8 +61,8 @@ Prepared prepare(MPI_Comm comm, const lem::SampleOptions& sample, double break_s
 }
 
 // Run the protocol on a prepared sample, write the fields.
-Case run_case(Prepared p, lem::FractureOptions options, const lem::Provenance& provenance,
-              bool write_fields) {
+Case run_case(Prepared p, const lem::SolverOptions& solver, lem::FractureOptions options,
+              const lem::Provenance& provenance, bool write_fields) {
   Case c;
   c.setup = p.setup;
   c.stress_unit = options.stress_unit = p.stress_unit;
@@ -70,7 +70,8 @@ Case run_case(Prepared p, lem::FractureOptions options, const lem::Provenance& p
   lem::say("lattice: %lld nodes, %lld bonds in the system, a = %.4g; output %s/\n",
            (long long)c.setup.sample.stats.nodes, (long long)c.setup.active_bonds,
            lattice.mean_bond_length, options.output_dir.c_str());
-  lem::ElasticSystem system(lattice);
+  lem::ElasticSystem system(lattice, solver);
+  lem::check_unused_options(lem::SolverStage::created);
   system.assemble();
   c.result = lem::run_fracture(lattice, system, options, provenance);
   if (write_fields) {
@@ -83,7 +84,8 @@ Case run_case(Prepared p, lem::FractureOptions options, const lem::Provenance& p
 
 // sigma^[p] and E^[p]: from the calibration file of this lattice if there is
 // one, else by breaking the homogeneous lattice (and stored for next time).
-lem::Calibration calibrate(MPI_Comm comm, const lem::SampleOptions& sample, double break_strain,
+lem::Calibration calibrate(MPI_Comm comm, const lem::SampleOptions& sample,
+                           const lem::SolverOptions& solver, double break_strain,
                            const lem::FractureOptions& options, std::string path,
                            const lem::Provenance& provenance) {
   lem::SampleOptions hom = sample;
@@ -113,7 +115,7 @@ lem::Calibration calibrate(MPI_Comm comm, const lem::SampleOptions& sample, doub
   lem::prepare_output_dir(comm, hom_options.output_dir, {"curve.csv", "broken.csv"});
   lem::say("calibration: the homogeneous lattice (every bond E^p = %g, sigma^p = %g)\n",
            sample.phases.modulus[0], sample.phases.strength[0]);
-  const Case hom_case = run_case(std::move(p), hom_options, provenance, false);
+  const Case hom_case = run_case(std::move(p), solver, hom_options, provenance, false);
   lem::Calibration c;
   c.sigma_hom = hom_case.result.peak_stress * hom_case.stress_unit;
   c.e_hom = hom_case.result.young_modulus * hom_case.stress_unit;
@@ -166,8 +168,8 @@ int main(int argc, char** argv) {
                                          "snapshot_<step>.h5/.xmf) once in every this many "
                                          "load steps (0: never)", 0, 0, 1'000'000'000);
     }
-    lem::check_option_names({"lattice_", "fcc_", "inclusion_", "sample_", "phase_", "output_",
-                             "fracture_", "strength_", "checkpoint_"});
+    const lem::SolverOptions solver = lem::read_solver_options(comm);
+    lem::check_option_names(comm);
     const bool from_file = !sample.sample_file.empty();
     const auto provenance = lem::collect_provenance(comm, "lem_fracture");
     // A run that will resume keeps the first-equilibrium fields written
@@ -183,7 +185,7 @@ int main(int argc, char** argv) {
     double sigma_hom = 0, e_hom = 0;
     if (from_file && calibrate_first && sigma_unit == 0 && modulus_unit == 0) {
       const lem::Calibration c =
-          calibrate(comm, sample, break_strain, options, calibration_file, provenance);
+          calibrate(comm, sample, solver, break_strain, options, calibration_file, provenance);
       sigma_hom = c.sigma_hom;
       e_hom = c.e_hom;
     }
@@ -192,7 +194,7 @@ int main(int argc, char** argv) {
     options.modulus_unit = modulus_unit > 0 ? modulus_unit : e_hom > 0 ? e_hom
                                                       : from_file ? e_p : 1.0;
     const Case c =
-        run_case(prepare(comm, sample, break_strain, options), options, provenance, fields);
+        run_case(prepare(comm, sample, break_strain, options), solver, options, provenance, fields);
 
     const lem::FractureResult& r = c.result;
     const double e_eff = r.young_modulus * c.stress_unit, s_eff = r.peak_stress * c.stress_unit;

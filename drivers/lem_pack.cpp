@@ -82,15 +82,15 @@ int main(int argc, char** argv) {
                          "Sphere centres in the cubic sample (at most -pack_particles)", 516, 1,
                          50'000'000);
       if (spec.count == 0) spec.count = lem::auto_packing_count(sample);
-      cut = g.choice("-pack_cut", "Spheres of the cube: centres inside it, or also those "
-                     "reaching in from outside", {"centres", "reaching"}, "centres") == "reaching"
-                ? lem::CubeCut::reaching_in
-                : lem::CubeCut::centres_inside;
+      cut = g.choice<lem::CubeCut>(
+          "-pack_cut", "Spheres of the cube: centres inside it, or also those reaching in from "
+          "outside", {{"centres", lem::CubeCut::centres_inside}, {"reaching", lem::CubeCut::reaching_in}},
+          lem::CubeCut::centres_inside);
       write_box = g.flag("-pack_write_box", "Also write the whole periodic packing "
                          "(packing_box.csv)", false);
       dir = g.string("-output_dir", "Directory of the results", "results/packing");
     }
-    lem::check_option_names({"pack_", "output_"});
+    lem::check_option_names(comm);
     lem::validate(spec);
     if (sample > spec.count)
       throw lem::InputError("option -pack_sample_particles = " + std::to_string(sample) +

@@ -99,7 +99,7 @@ int main(int argc, char** argv) {
                       "<stem>.xmf; summaries summary.json/.csv for the default, else "
                       "<stem>_summary.json/.csv)", "sample");
     }
-    lem::check_option_names({"pack_", "sample_", "lattice_", "matrix_", "output_"});
+    lem::check_option_names(comm);
     if (stem.empty() || stem.find('/') != std::string::npos)
       throw lem::InputError("option -output_stem = '" + stem + "' must be a plain file name "
                             "(no '/'; the directory is -output_dir)");

@@ -38,7 +38,8 @@ struct Elastic {
 };
 
 // Uniaxial tension of the lattice `make()` builds on rank 0.
-Elastic pull(MPI_Comm comm, const std::function<lem::Lattice()>& make) {
+Elastic pull(MPI_Comm comm, const lem::SolverOptions& solver,
+             const std::function<lem::Lattice()>& make) {
   lem::SetupReport setup;
   auto lattice = lem::setup_tension_lattice(
       comm,
@@ -48,7 +49,8 @@ Elastic pull(MPI_Comm comm, const std::function<lem::Lattice()>& make) {
         return l;
       },
       setup);
-  lem::ElasticSystem system(lattice);
+  lem::ElasticSystem system(lattice, solver);
+  lem::check_unused_options(lem::SolverStage::created);
   system.assemble();
   const auto solve = system.solve(3e-4 * lattice.mean_bond_length);
   const auto response = system.response();
@@ -84,8 +86,8 @@ int main(int argc, char** argv) {
                               "dense packing)");
     if (fractions.size() < 2)
       throw lem::InputError("option -stiffness_fractions: give at least two fractions for the fits");
-    lem::check_option_names({"pack_", "sample_", "lattice_", "matrix_", "phase_", "stiffness_",
-                             "output_"});
+    const lem::SolverOptions solver = lem::read_solver_options(comm);
+    lem::check_option_names(comm);
     lem::prepare_output_dir(comm, dir, {"stiffness.csv", "fits.csv", "summary.json"});
     const auto provenance = lem::collect_provenance(comm, "lem_stiffness");
     int rank = 0;
@@ -104,7 +106,7 @@ int main(int argc, char** argv) {
     });
 
     // E^[phi] = c E^phi: a homogeneous lattice of bonds k = a (E = 1).
-    const Elastic unit = pull(comm, [&] {
+    const Elastic unit = pull(comm, solver, [&] {
       lem::Lattice l = sample.lattice;
       const double a = lem::lattice_stats(l).mean_length;
       l.stiffness.assign(l.bond_count(), a);
@@ -136,11 +138,11 @@ int main(int argc, char** argv) {
       adhesive_table.modulus[int(Phase::pp)] = table.modulus[int(Phase::pm)];
       lem::BridgeSpec bridges = spec.bridges;
       bridges.matrix_fraction = fraction;
-      const Elastic b = pull(comm, [&] {
+      const Elastic b = pull(comm, solver, [&] {
         lem::add_matrix(sample, bridges);
         return lem::mechanical_lattice(sample, bare_table);
       });
-      const Elastic a = pull(comm, [&] { return lem::mechanical_lattice(sample, adhesive_table); });
+      const Elastic a = pull(comm, solver, [&] { return lem::mechanical_lattice(sample, adhesive_table); });
       if (rank != 0) continue;  // the statistics are on rank 0
       const auto& st = sample.stats;
       const double rho_pp = st.bond_volume_fraction[int(Phase::pp)];

@@ -29,8 +29,8 @@ int main(int argc, char** argv) {
       dir = g.string("-output_dir", "Directory of the results", "results/tension");
       fields = g.flag("-output_fields", "Write nodes and bonds to HDF5/XDMF", true);
     }
-    lem::check_option_names({"lattice_", "fcc_", "inclusion_", "sample_", "phase_", "load_",
-                             "output_"});
+    const lem::SolverOptions solver = lem::read_solver_options(comm);
+    lem::check_option_names(comm);
     const auto provenance = lem::collect_provenance(comm, "lem_tension");
     lem::prepare_output_dir(comm, dir, {"summary.json", "summary.csv", "fields.h5", "fields.xmf"});
 
@@ -43,7 +43,8 @@ int main(int argc, char** argv) {
              (long long)setup.active_bonds, lattice.mean_bond_length,
              setup.sample.stats.mesh_density, setup.sample.stats.mean_coordination);
 
-    lem::ElasticSystem system(lattice);
+    lem::ElasticSystem system(lattice, solver);
+    lem::check_unused_options(lem::SolverStage::created);
     system.assemble();
     const auto solve = system.solve(delta * lattice.mean_bond_length);
     lem::check_unused_options();

@@ -45,11 +45,24 @@ struct TensionResponse {
 /// The KSP of patch solves (relax_patch): CG + Jacobi by default, to `rtol`,
 /// then the -patch_ksp_* / -patch_pc_* options.  The caller destroys it.
 KSP create_patch_solver(MPI_Comm comm, double rtol);
+/// The program's own solver settings; PETSc's -ksp_*, -pc_* and -mat_*
+/// options are read by the solver objects themselves.
+struct SolverOptions {
+  /// -lattice_ground_stiffness, relative to the mean nodal stiffness.
+  double ground_stiffness = 1e-10;
+};
+/// Read -lattice_ground_stiffness and record the solver defaults (CG +
+/// GAMG, ...) in the option registry, so that -help and the provenance show
+/// them.  With -help, PETSc also lists its own KSP and PC options.
+SolverOptions read_solver_options(MPI_Comm comm);
 
 class ElasticSystem {
  public:
-  /// Creates the matrix (exact preallocation), vectors and KSP; reads the
-  /// -mat_type, -ksp_* and -pc_* options.  Does not assemble.
+  /// Creates the matrix (exact preallocation), vectors and KSP with the
+  /// solver defaults, then lets the -mat_type, -ksp_* and -pc_* options
+  /// override them.  Does not assemble.
+  ElasticSystem(DistributedLattice& lattice, const SolverOptions& options);
+  /// Reads the solver options itself (tests; drivers read them once).
   explicit ElasticSystem(DistributedLattice& lattice);
   ~ElasticSystem();
   ElasticSystem(const ElasticSystem&) = delete;

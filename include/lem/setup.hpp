@@ -17,13 +17,16 @@ namespace lem {
 /// What a lattice sample is made of; read from the -lattice_* and
 /// -inclusion_* options, or from a cemented sample file (-sample_file, with
 /// the bond moduli of -phase_*), which excludes the generation options.
+enum class LatticeType { random, fcc, sample /* set by -sample_file */ };
+enum class InclusionType { none, stiff, pore };
+
 struct SampleOptions {
-  std::string lattice_type = "random";  // random | fcc | sample (set by -sample_file)
+  LatticeType lattice_type = LatticeType::random;
   std::string sample_file;              // lem_sample's HDF5 file
   PhaseTable phases;                    // bond moduli of a sample file's phases
   RandomLatticeSpec random;
   std::array<int, 3> fcc_cells{4, 4, 4};
-  std::string inclusion_type = "none";  // none | stiff | pore
+  InclusionType inclusion_type = InclusionType::none;
   InclusionSpec inclusions;
   double inclusion_stiffness_ratio = 10.0;
   bool pore_needs_both_ends = false;  // void-bond rule, see carve_pores()

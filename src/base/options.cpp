@@ -3,11 +3,39 @@
 #include "lem/error.hpp"
 
 #include <algorithm>
-#include <cstring>
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
 #include <sstream>
 
 namespace lem {
 namespace {
+
+std::vector<OptionRecord>& registry() {
+  static std::vector<OptionRecord> records;
+  return records;
+}
+
+// PETSc compares option names without regard to case; so do we.
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+OptionRecord* find_record(const std::string& name) {
+  const std::string key = lower(name);
+  for (auto& r : registry())
+    if (lower(r.name) == key) return &r;
+  return nullptr;
+}
+
+template <class T>
+std::string text_of(const T& value) {
+  std::ostringstream s;
+  s << value;
+  return s.str();
+}
 
 std::string describe_range(double lo, double hi, bool open_lo, bool open_hi) {
   std::ostringstream s;
@@ -15,8 +43,17 @@ std::string describe_range(double lo, double hi, bool open_lo, bool open_hi) {
   return s.str();
 }
 
+// A whole string as a real number (strtod also takes inf and nan; the range
+// checks reject them).
+bool parse_real(const std::string& text, double& value) {
+  if (text.empty()) return false;
+  char* end = nullptr;
+  value = std::strtod(text.c_str(), &end);
+  return end != text.c_str() && *end == '\0';
+}
+
 // Prefixes of options that PETSc itself (or MPI start-up) may consume; they
-// are checked after the first solve, when PETSc has read them.
+// are checked by check_unused_options(), once PETSc has read them.
 const char* const kPetscPrefixes[] = {
     "ksp_", "pc_", "mat_", "vec_", "fallback_", "patch_", "log", "options_", "help", "malloc", "info", "on_error",
     "history", "viewer", "fp_trap", "no_signal_handler", "check_pointer", "memory_view",
@@ -25,39 +62,170 @@ const char* const kPetscPrefixes[] = {
     "mg_", "sub_", "redundant_", "telescope_", "is_", "sf_", "error_output", "saws", "python",
     "get_total_flops", "checkstack"};
 
+// Options that the objects of ElasticSystem read when they are created
+// (KSPSetFromOptions, PCSetFromOptions, including -fallback_*): these can be
+// checked before the first solve ...
+const char* const kReadAtCreation[] = {"ksp_", "pc_", "fallback_"};
+// ... except the ones PETSc reads later.  GAMG builds its levels in PCSetUp:
+// only then does it read -pc_mg_* (PCSetFromOptions_MG cannot run before the
+// levels exist) and the level smoothers' and coarse solver's -mg_levels_*
+// and -mg_coarse_* (outside kReadAtCreation anyway); some PCs define their
+// parts at set-up too (fieldsplit, BDDC, patch, HPDDM, and the -sub_*
+// solvers of block Jacobi and ASM).  -mat_* options are left to the later
+// check as a whole: the coarsening, repartitioning, Galerkin products and
+// factorisation packages (-mat_mumps_* ...) read theirs at set-up.  Viewers
+// (-ksp_view, ...) and convergence reports are read when a solve ends.
+const char* const kReadLater[] = {"pc_mg_",   "pc_gamg_esteig_", "pc_fieldsplit_",
+                                  "pc_bddc_", "pc_patch_",       "pc_hpddm_"};
+bool read_later(const std::string& bare) {
+  for (const char* p : kReadLater)
+    if (bare.rfind(p, 0) == 0) return true;
+  for (const char* part : {"view", "converged_", "compute_", "plot_"})
+    if (bare.find(part) != std::string::npos) return true;
+  return false;
+}
+
 bool has_prefix(const std::string& s, const std::string& p) { return s.rfind(p, 0) == 0; }
 
-// Option names ("-x") present in the database.
-std::vector<std::string> option_names() {
+template <std::size_t N>
+bool has_any_prefix(const std::string& s, const char* const (&prefixes)[N]) {
+  return std::any_of(std::begin(prefixes), std::end(prefixes),
+                     [&](const char* p) { return has_prefix(s, p); });
+}
+
+// The database as (name, value) pairs, names with the dash; read without
+// marking anything used.
+std::vector<std::pair<std::string, std::string>> database() {
   char* all = nullptr;
   LEM_PETSC(PetscOptionsGetAll(nullptr, &all));
   std::istringstream in(all ? all : "");
   LEM_PETSC(PetscFree(all));
-  std::vector<std::string> names;
+  std::vector<std::pair<std::string, std::string>> options;
   std::string token;
   while (in >> token) {
     // Values may be negative numbers; names start with '-' and a letter.
     if (token.size() > 1 && token[0] == '-' && std::isalpha(static_cast<unsigned char>(token[1])))
-      names.push_back(token);
+      options.emplace_back(token, "");
+    else if (!options.empty())
+      options.back().second += (options.back().second.empty() ? "" : " ") + token;
   }
+  return options;
+}
+
+std::vector<std::string> option_names() {
+  std::vector<std::string> names;
+  for (const auto& option : database()) names.push_back(option.first);
   return names;
+}
+
+// Edits (insert, delete, substitute, swap two neighbours) from a to b.
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::vector<std::size_t>> d(a.size() + 1, std::vector<std::size_t>(b.size() + 1));
+  for (std::size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
+  for (std::size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i)
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1,
+                          d[i - 1][j - 1] + (a[i - 1] != b[j - 1])});
+      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1])
+        d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+    }
+  return d[a.size()][b.size()];
+}
+
+// The candidate closest to `word`, if it is close enough to be a typo.
+const std::string* nearest(const std::string& word, const std::vector<std::string>& candidates) {
+  const std::string* best = nullptr;
+  std::size_t best_distance = 4;  // more edits than this is not a typo
+  for (const auto& c : candidates) {
+    const std::size_t d = edit_distance(lower(word), lower(c));
+    if (d < best_distance) best_distance = d, best = &c;
+  }
+  return best;
+}
+
+// " (did you mean -x?)" for the closest registered name, if it is close.
+std::string suggestion(const std::string& name) {
+  std::vector<std::string> names;
+  for (const auto& r : registry()) names.push_back(r.name);
+  const std::string* best = nearest(name, names);
+  return best ? " (did you mean " + *best + "?)" : "";
+}
+
+// Words of `text` in lines of at most `width` characters, each indented.
+std::string wrapped(const std::string& text, std::size_t indent, std::size_t width) {
+  std::istringstream in(text);
+  std::string out, line, word;
+  while (in >> word) {
+    if (!line.empty() && line.size() + 1 + word.size() > width - indent) {
+      out += std::string(indent, ' ') + line + "\n";
+      line.clear();
+    }
+    if (!line.empty()) line += ' ';
+    line += word;
+  }
+  if (!line.empty()) out += std::string(indent, ' ') + line + "\n";
+  return out;
+}
+
+// The registry as -help shows it: by group, in reading order.
+std::string registry_as_help() {
+  std::vector<std::string> groups;
+  for (const auto& r : registry())
+    if (std::find(groups.begin(), groups.end(), r.group) == groups.end()) groups.push_back(r.group);
+  std::string text = "\nOptions of this program (value now, and the default if it differs):\n";
+  for (const auto& group : groups) {
+    text += '\n';
+    text += group;
+    text += ":\n";
+    for (const auto& r : registry()) {
+      if (r.group != group) continue;
+      auto shown = [](const std::string& v) { return v.empty() ? std::string("\"\"") : v; };
+      std::ostringstream line;
+      line << "  " << r.name << " <" << shown(r.given ? r.value : r.default_value) << ">";
+      if (r.given && r.value != r.default_value)
+        line << " (default " << shown(r.default_value) << ")";
+      text += line.str();
+      text += '\n';
+      text += wrapped(r.help, 6, 96);
+    }
+  }
+  return text;
 }
 
 }  // namespace
 
-OptionGroup::OptionGroup(MPI_Comm comm, const char* title) : comm_(comm) {
-  std::memset(&items_, 0, sizeof(items_));
-  items_.count = 1;  // a single pass, as PetscOptionsBegin does without SAWs
-  LEM_PETSC(PetscOptionsBegin_Private(&items_, comm_, nullptr, title, "lem"));
+const std::vector<OptionRecord>& registered_options() { return registry(); }
+
+OptionGroup::OptionGroup(MPI_Comm comm, const char* title) : comm_(comm), title_(title) {}
+
+bool OptionGroup::lookup(const char* name, std::string& text) const {
+  char buffer[PETSC_MAX_PATH_LEN] = "";
+  PetscBool set = PETSC_FALSE;
+  LEM_PETSC(PetscOptionsGetString(nullptr, nullptr, name, buffer, sizeof buffer, &set));
+  text = set ? buffer : "";
+  return set == PETSC_TRUE;
 }
 
-OptionGroup::~OptionGroup() { PetscOptionsEnd_Private(&items_); }
+void OptionGroup::record(const char* name, const char* help, std::string def,
+                         const std::string& text, bool given, bool petsc_default) {
+  if (OptionRecord* r = find_record(name)) {  // read again (e.g. a second system)
+    r->value = text;
+    r->given = given;
+    return;
+  }
+  registry().push_back({title_, name, help, std::move(def), text, given, petsc_default});
+}
 
 double OptionGroup::real(const char* name, const char* help, double def, double lo, double hi,
                          bool open_lo, bool open_hi) {
-  PetscReal value = def;
-  PetscBool set = PETSC_FALSE;
-  LEM_PETSC(PetscOptionsReal_Private(&items_, name, help, "lem", def, &value, &set));
+  std::string text;
+  const bool set = lookup(name, text);
+  record(name, help, text_of(def), text, set);
+  double value = def;
+  if (set && !parse_real(text, value))
+    throw InputError("option " + std::string(name) + " = '" + text + "' is not a number: " +
+                     "allowed " + describe_range(lo, hi, open_lo, open_hi) + " (" + help + ")");
   const bool below = open_lo ? !(value > lo) : !(value >= lo);
   const bool above = open_hi ? !(value < hi) : !(value <= hi);
   if (below || above) {
@@ -71,68 +239,115 @@ double OptionGroup::real(const char* name, const char* help, double def, double 
 
 std::int64_t OptionGroup::integer(const char* name, const char* help, std::int64_t def,
                                   std::int64_t lo, std::int64_t hi) {
-  PetscInt value = static_cast<PetscInt>(def);
-  PetscBool set = PETSC_FALSE;
-  LEM_PETSC(PetscOptionsInt_Private(&items_, name, help, "lem", value, &value, &set,
-                                    PETSC_MIN_INT, PETSC_MAX_INT));
-  if (value < lo || value > hi) {
-    std::ostringstream s;
-    s << "option " << name << " = " << value << " is out of range: allowed [" << lo << ", " << hi
-      << "] (" << help << ")";
-    throw InputError(s.str());
+  std::string text;
+  const bool set = lookup(name, text);
+  record(name, help, std::to_string(def), text, set);
+  if (!set) return def;
+  const std::string allowed = "allowed [" + std::to_string(lo) + ", " + std::to_string(hi) +
+                              "] (" + help + ")";
+  const std::string given = "option " + std::string(name) + " = ";
+  // Plain integers first; failing that, a real with an integer value
+  // ("1e6"), so that a huge value is out of range instead of wrapping.
+  errno = 0;
+  char* end = nullptr;
+  const long long parsed = std::strtoll(text.c_str(), &end, 10);
+  std::int64_t value = parsed;
+  if (text.empty() || end == text.c_str() || *end != '\0' || errno == ERANGE) {
+    double real = 0;
+    if (!parse_real(text, real))
+      throw InputError(given + "'" + text + "' is not a number: " + allowed);
+    if (std::isfinite(real) && real != std::floor(real))
+      throw InputError(given + "'" + text + "' is not an integer: " + allowed);
+    if (!(real >= static_cast<double>(lo) && real <= static_cast<double>(hi)))
+      throw InputError(given + text + " is out of range: " + allowed);
+    value = static_cast<std::int64_t>(real);
   }
+  if (value < lo || value > hi)
+    throw InputError(given + std::to_string(value) + " is out of range: " + allowed);
   return value;
 }
 
 bool OptionGroup::flag(const char* name, const char* help, bool def) {
-  PetscBool value = def ? PETSC_TRUE : PETSC_FALSE;
-  PetscBool set = PETSC_FALSE;
-  LEM_PETSC(PetscOptionsBool_Private(&items_, name, help, "lem", value, &value, &set));
-  return value == PETSC_TRUE;
+  std::string text;
+  const bool set = lookup(name, text);
+  record(name, help, def ? "true" : "false", text, set);
+  if (!set) return def;
+  const std::string word = lower(text);
+  // The words PETSc takes for a boolean; a bare -name means true.
+  for (const char* yes : {"", "true", "yes", "on", "1"})
+    if (word == yes) return true;
+  for (const char* no : {"false", "no", "off", "0"})
+    if (word == no) return false;
+  throw InputError("option " + std::string(name) + " = '" + text + "' is not a boolean: allowed "
+                   "true or false (also yes/no, on/off, 1/0) (" + help + ")");
 }
 
 std::string OptionGroup::string(const char* name, const char* help, const std::string& def) {
-  char buffer[PETSC_MAX_PATH_LEN];
-  PetscBool set = PETSC_FALSE;
-  LEM_PETSC(PetscOptionsString_Private(&items_, name, help, "lem", def.c_str(), buffer,
-                                       sizeof(buffer), &set));
-  return set ? std::string(buffer) : def;
+  std::string text;
+  const bool set = lookup(name, text);
+  record(name, help, def, text, set);
+  return set ? text : def;
 }
 
-std::string OptionGroup::choice(const char* name, const char* help,
-                                const std::vector<std::string>& choices, const std::string& def) {
+std::size_t OptionGroup::choice_index(const char* name, const char* help,
+                                      const std::vector<std::string>& words,
+                                      std::size_t def_index) {
   std::string all;
-  for (const auto& c : choices) all += (all.empty() ? "" : "|") + c;
-  const std::string text = std::string(help) + " (" + all + ")";
-  std::string value = string(name, text.c_str(), def);
-  if (std::find(choices.begin(), choices.end(), value) == choices.end())
-    throw InputError("option " + std::string(name) + " = '" + value +
-                     "' is not one of: " + all);
-  return value;
+  for (const auto& w : words) {
+    if (!all.empty()) all += '|';
+    all += w;
+  }
+  std::string text;
+  const bool set = lookup(name, text);
+  record(name, (std::string(help) + " (" + all + ")").c_str(), words[def_index], text, set);
+  if (!set) return def_index;
+  const auto it = std::find(words.begin(), words.end(), text);
+  if (it == words.end())
+    throw InputError("option " + std::string(name) + " = '" + text + "' is not one of: " + all);
+  return static_cast<std::size_t>(it - words.begin());
 }
 
 std::vector<double> OptionGroup::positive_reals(const char* name, const char* help,
                                                 const std::vector<double>& def, bool any_count) {
-  std::vector<PetscReal> values(def.begin(), def.end());
-  values.resize(std::max<std::size_t>(values.size(), 64));
-  PetscInt n = static_cast<PetscInt>(values.size());
-  PetscBool set = PETSC_FALSE;
-  LEM_PETSC(PetscOptionsRealArray_Private(&items_, name, help, "lem", values.data(), &n, &set));
+  std::string def_text;
+  for (double v : def) {
+    if (!def_text.empty()) def_text += ',';
+    def_text += text_of(v);
+  }
+  std::string text;
+  const bool set = lookup(name, text);
+  record(name, help, def_text, text, set);
   if (!set) return def;
-  if (any_count ? n < 1 : static_cast<std::size_t>(n) != def.size()) {
+  std::vector<double> values;
+  std::istringstream list(text);
+  for (std::string item; std::getline(list, item, ',');) {
+    double v = 0;
+    if (!parse_real(item, v))
+      throw InputError("option " + std::string(name) + ": '" + item + "' is not a number");
+    values.push_back(v);
+  }
+  const std::size_t n = values.size();
+  if (any_count ? (n < 1 || n > 64) : n != def.size()) {
     std::ostringstream s;
     s << "option " << name << " takes " << (any_count ? std::string("1 to 64") : std::to_string(def.size()))
       << " comma-separated values, got " << n;
     throw InputError(s.str());
   }
-  values.resize(static_cast<std::size_t>(n));
   for (double v : values)
     if (!(v > 0)) {
       std::ostringstream s;
       s << "option " << name << ": every value must be > 0, got " << v;
       throw InputError(s.str());
     }
-  return {values.begin(), values.end()};
+  return values;
+}
+
+void OptionGroup::petsc_default(const char* name, const char* help, const char* value) {
+  // Looking it up marks it used: a default that the chosen solver ignores
+  // (e.g. -pc_gamg_* with -pc_type jacobi) is not a user typo.
+  std::string text;
+  const bool set = lookup(name, text);
+  record(name, help, value, text, set, true);
 }
 
 bool OptionGroup::given(const char* name) const {
@@ -141,37 +356,48 @@ bool OptionGroup::given(const char* name) const {
   return set == PETSC_TRUE;
 }
 
-void check_option_names(const std::vector<std::string>& own_prefixes) {
+void check_type_option(const char* name, PetscFunctionList types, const char* kind) {
+  for (const auto& [option, value] : database()) {
+    if (lower(option) != lower(name)) continue;
+    void (*create)(void) = nullptr;
+    LEM_PETSC(PetscFunctionListFind(types, value.c_str(), &create));
+    if (create) continue;
+    const char** names = nullptr;
+    int n = 0;
+    LEM_PETSC(PetscFunctionListGet(types, &names, &n));
+    std::vector<std::string> known;
+    for (int i = 0; i < n; ++i)
+      if (names[i]) known.emplace_back(names[i]);
+    LEM_PETSC(PetscFree(names));
+    const std::string* best = nearest(value, known);
+    throw InputError("option " + option + " = '" + value + "' is not a " + kind + " type known "
+                     "to PETSc" + (best ? " (did you mean " + *best + "?)" : std::string()));
+  }
+}
+
+void check_option_names(MPI_Comm comm) {
   std::string unknown;
   for (const auto& name : option_names()) {
-    const std::string bare = name.substr(1);
-    bool own = false;
-    for (const auto& p : own_prefixes) own = own || has_prefix(bare, p);
-    // Read later, when the elastic system is created.
-    static const char* const kReadLater[] = {"lattice_ground_stiffness"};
-    bool late = false;
-    for (const char* name_read_later : kReadLater) late = late || bare == name_read_later;
-    if (late) continue;  // check_unused_options() covers it
-    if (own) {
-      PetscBool used = PETSC_FALSE;
-      LEM_PETSC(PetscOptionsUsed(nullptr, bare.c_str(), &used));  // stored without the dash
-      if (!used) unknown += " " + name;
-      continue;
-    }
-    bool petsc = false;
-    for (const char* p : kPetscPrefixes) petsc = petsc || has_prefix(bare, p);
-    if (!petsc) unknown += " " + name;
+    if (find_record(name)) continue;  // ours (or a documented PETSc default)
+    if (has_any_prefix(name.substr(1), kPetscPrefixes)) continue;  // checked once PETSc has read it
+    unknown += " " + name + suggestion(name);
   }
   if (!unknown.empty())
     throw InputError("unknown option(s):" + unknown + " (run with -help to list the options)");
   PetscBool help = PETSC_FALSE;
   LEM_PETSC(PetscOptionsHasHelp(nullptr, &help));
-  if (help)
-    throw HelpShown("-help: these are the program's options; the solver takes PETSc's standard "
-                    "-ksp_*, -pc_* and -mat_* options (docs/user-guide.md). Nothing was run.");
+  if (help) {
+    LEM_PETSC(PetscPrintf(comm, "%s", registry_as_help().c_str()));
+    const bool solver = std::any_of(registry().begin(), registry().end(),
+                                    [](const OptionRecord& r) { return r.petsc_default; });
+    throw HelpShown(std::string("-help: these are the program's options") +
+                    (solver ? "; the solver also takes PETSc's standard -ksp_*, -pc_* and "
+                              "-mat_* options (docs/user-guide.md)" : "") +
+                    ". Nothing was run.");
+  }
 }
 
-void check_unused_options() {
+void check_unused_options(SolverStage stage) {
   PetscInt n = 0;
   char** names = nullptr;
   char** values = nullptr;
@@ -181,6 +407,9 @@ void check_unused_options() {
     const std::string name = names[i];
     // PETSc itself never marks a few start-up options as used.
     if (name == "options_left" || name == "help" || has_prefix(name, "log_view")) continue;
+    if (stage == SolverStage::created &&
+        (!has_any_prefix(name, kReadAtCreation) || read_later(name)))
+      continue;
     unknown += " -" + name;
   }
   LEM_PETSC(PetscOptionsLeftRestore(nullptr, &n, &names, &values));
@@ -194,6 +423,15 @@ std::string options_as_text() {
   LEM_PETSC(PetscOptionsGetAll(nullptr, &all));
   std::string text = all ? all : "";
   LEM_PETSC(PetscFree(all));
+  const std::vector<std::string> present = option_names();
+  for (const auto& r : registry()) {
+    if (!r.petsc_default) continue;
+    // Not given, and not put into the database by the program either.
+    const bool in_database = std::any_of(present.begin(), present.end(), [&](const std::string& n) {
+      return lower(n) == lower(r.name);
+    });
+    if (!in_database) text += " " + r.name + " " + r.default_value;
+  }
   return text;
 }
 

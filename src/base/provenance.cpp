@@ -1,5 +1,7 @@
 #include "lem/provenance.hpp"
 
+#include "lem/options.hpp"
+
 #include "lem/collective.hpp"
 #include "lem/error.hpp"
 
@@ -30,7 +32,7 @@ std::string iso8601_utc_now() {
   return buffer;
 }
 
-/// PetscOptionsGetAll gives "-a 1 -b -c x "; put one option (with its value) per line.
+/// options_as_text gives "-a 1 -b -c x "; put one option (with its value) per line.
 /// A token starts a new option when it is '-' followed by a letter or '_'
 /// (so negative numbers stay values).
 std::string options_one_per_line(const std::string& all) {
@@ -64,13 +66,9 @@ Provenance collect_provenance(MPI_Comm comm, const std::string& program) {
     start_time = iso8601_utc_now();
     PetscBool initialized = PETSC_FALSE;
     if (PetscInitialized(&initialized) != 0 || !initialized) return;
-    char* all = nullptr;
-    const PetscErrorCode ierr = PetscOptionsGetAll(nullptr, &all);
-    if (ierr == 0) options = options_one_per_line(all != nullptr ? all : "");
-    if (all != nullptr) PetscFree(all);
-    if (ierr != 0)
-      throw std::runtime_error("collect_provenance: PetscOptionsGetAll failed with error " +
-                               std::to_string(ierr));
+    // The options given and the solver defaults that none of them
+    // overrides (the defaults are set on the objects, not in the database).
+    options = options_one_per_line(options_as_text());
   });
   // Rank 0's view wins, so that every rank writes identical attributes.
   p.start_time = broadcast_string(comm, start_time);

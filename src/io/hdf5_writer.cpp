@@ -26,6 +26,7 @@
 #include "lem/error.hpp"
 #include "lem/files.hpp"
 #include "lem/hdf5_util.hpp"
+#include "lem/options.hpp"
 
 namespace lem {
 namespace {

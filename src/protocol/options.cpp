@@ -22,11 +22,10 @@ FractureOptions read_fracture_options(MPI_Comm comm) {
     o.increment = g.real("-fracture_increment", "Top displacement added per load step, in "
                          "units of the mean bond length a (paper: 3e-4)", o.increment, 0.0,
                          0.01, true);
-    o.break_rule = g.choice("-fracture_break_rule", "Which critical bonds break in a relaxation "
-                            "cycle: all (paper) or the most critical only",
-                            {"all", "most_critical"}, "all") == "all"
-                       ? BreakRule::all
-                       : BreakRule::most_critical;
+    o.break_rule = g.choice<BreakRule>(
+        "-fracture_break_rule", "Which critical bonds break in a relaxation cycle: all (paper) "
+        "or the most critical only",
+        {{"all", BreakRule::all}, {"most_critical", BreakRule::most_critical}}, BreakRule::all);
     o.skip_idle = g.flag("-fracture_skip_idle", "Jump over load steps at which no bond breaks "
                          "(exact: the system is linear between ruptures)", o.skip_idle);
     o.stop_fraction = g.real("-fracture_stop_fraction", "End the run once the stress has "
@@ -48,14 +47,15 @@ FractureOptions read_fracture_options(MPI_Comm comm) {
   }
   {
     OptionGroup g(comm, "Relaxation after ruptures (docs/fracture.md)");
-    o.relaxation = g.choice("-fracture_relaxation", "global: every relaxation cycle is a global "
-                            "solve (the reference); local: relax patches around the new "
-                            "ruptures first, break the bonds they certify, and solve globally "
-                            "to confirm", {"global", "local"}, "global") == "global"
-                       ? RelaxationScheme::global
-                       : RelaxationScheme::local;
+    o.relaxation = g.choice<RelaxationScheme>(
+        "-fracture_relaxation", "global: every relaxation cycle is a global solve (the "
+        "reference); local (experimental): relax patches around the new ruptures first, break "
+        "the bonds they certify, and solve globally to confirm",
+        {{"global", RelaxationScheme::global}, {"local", RelaxationScheme::local}},
+        RelaxationScheme::global);
     o.patch_radius = g.real("-fracture_patch_radius", "local: a patch holds the nodes within "
-                            "this many mean bond lengths a of the ruptures of the last batch",
+                            "this many mean bond lengths a of the ruptures since the last "
+                            "global equilibrium",
                             o.patch_radius, 1.0, 100.0);
     o.patch_margin = g.real("-fracture_patch_margin", "local: a patch field breaks a bond only "
                             "when its force exceeds (1 + margin) times its threshold (margin: "
@@ -69,11 +69,11 @@ FractureOptions read_fracture_options(MPI_Comm comm) {
   }
   {
     OptionGroup g(comm, "Threshold disorder (seeded; the same on any rank count)");
-    const std::string disorder = g.choice("-strength_disorder", "Random factor on the breaking "
-                                          "thresholds", {"none", "uniform", "weibull"}, "none");
-    o.disorder = disorder == "uniform"   ? ThresholdDisorder::uniform
-                 : disorder == "weibull" ? ThresholdDisorder::weibull
-                                         : ThresholdDisorder::none;
+    o.disorder = g.choice<ThresholdDisorder>(
+        "-strength_disorder", "Random factor on the breaking thresholds",
+        {{"none", ThresholdDisorder::none}, {"uniform", ThresholdDisorder::uniform},
+         {"weibull", ThresholdDisorder::weibull}},
+        ThresholdDisorder::none);
     o.disorder_width = g.real("-strength_disorder_width", "uniform: factor drawn in "
                               "[1 - w, 1 + w]", 0.2, 0.0, 1.0, false, true);
     o.weibull_modulus = g.real("-strength_weibull_modulus", "weibull: shape m of the "

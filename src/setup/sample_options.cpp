@@ -58,13 +58,14 @@ PackingSpec read_packing_spec(MPI_Comm comm) {
                      number(4 * spec.d_min));
   spec.seed = static_cast<std::uint64_t>(g.integer(
       "-pack_seed", "Seed of the random diameters and start positions", 1, 0, 2147483647));
-  const auto dist = g.choice("-pack_distribution", "Diameter distribution",
-                             {"uniform_diameter", "uniform_volume"}, "uniform_diameter");
-  spec.distribution = dist == "uniform_volume" ? SizeDistribution::uniform_volume
-                                               : SizeDistribution::uniform_diameter;
-  const auto law = g.choice("-pack_law", "Soft repulsion used to find the jammed state",
-                            {"linear", "hertz"}, "linear");
-  spec.law = law == "hertz" ? ContactLaw::hertz : ContactLaw::linear;
+  spec.distribution = g.choice<SizeDistribution>(
+      "-pack_distribution", "Diameter distribution",
+      {{"uniform_diameter", SizeDistribution::uniform_diameter},
+       {"uniform_volume", SizeDistribution::uniform_volume}},
+      SizeDistribution::uniform_diameter);
+  spec.law = g.choice<ContactLaw>("-pack_law", "Soft repulsion used to find the jammed state",
+                                  {{"linear", ContactLaw::linear}, {"hertz", ContactLaw::hertz}},
+                                  ContactLaw::linear);
   spec.fraction_tolerance =
       g.real("-pack_tolerance", "Stop when jammed and unjammed volume fractions differ by "
              "less than this", 1e-5, 1e-9, 1e-2);

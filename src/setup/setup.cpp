@@ -45,7 +45,9 @@ SampleOptions read_sample_options(MPI_Comm comm) {
                      "-sample_file");
   {
     OptionGroup g(comm, "Lattice");
-    o.lattice_type = g.choice("-lattice_type", "Lattice geometry", {"random", "fcc"}, "random");
+    o.lattice_type = g.choice<LatticeType>("-lattice_type", "Lattice geometry",
+                                           {{"random", LatticeType::random}, {"fcc", LatticeType::fcc}},
+                                           LatticeType::random);
     const auto box = g.positive_reals("-lattice_box", "Box side lengths Lx,Ly,Lz", {1.0, 1.0, 1.0});
     for (int a = 0; a < 3; ++a) o.random.box.hi[a] = box[a];
     if (!read_random_lattice_options(g, o.random)) o.random.nodes = 20000;
@@ -53,12 +55,14 @@ SampleOptions read_sample_options(MPI_Comm comm) {
     const int cells = static_cast<int>(g.integer("-fcc_cells", "FCC lattice: unit cells per axis",
                                                  4, 1, 400));
     o.fcc_cells = {cells, cells, cells};
-    if (!o.sample_file.empty()) o.lattice_type = "sample";
+    if (!o.sample_file.empty()) o.lattice_type = LatticeType::sample;
   }
   {
     OptionGroup g(comm, "Inclusions (two-phase samples)");
-    o.inclusion_type = g.choice("-inclusion_type", "Spherical inclusions", {"none", "stiff", "pore"},
-                                "none");
+    o.inclusion_type = g.choice<InclusionType>(
+        "-inclusion_type", "Spherical inclusions",
+        {{"none", InclusionType::none}, {"stiff", InclusionType::stiff}, {"pore", InclusionType::pore}},
+        InclusionType::none);
     o.inclusions.volume_fraction = g.real("-inclusion_fraction", "Volume fraction of inclusions",
                                           0.2, 0.0, 0.6, true);
     o.inclusions.radius = g.real("-inclusion_radius", "Inclusion radius / smallest box side", 0.1,
@@ -67,9 +71,10 @@ SampleOptions read_sample_options(MPI_Comm comm) {
         g.integer("-inclusion_seed", "Random seed of the inclusion centres", 7, 0, PETSC_MAX_INT));
     o.inclusion_stiffness_ratio = g.real("-inclusion_stiffness_ratio", "k inside stiff inclusions "
                                          "/ k of the matrix", 10.0, 0.0, 1e6, true);
-    o.pore_needs_both_ends = g.choice("-inclusion_void_bonds", "Which bonds a pore removes: "
-                                      "any = a bond with an end in a pore (paper), both = only "
-                                      "bonds with both ends in it", {"any", "both"}, "any") == "both";
+    o.pore_needs_both_ends = g.choice<bool>("-inclusion_void_bonds", "Which bonds a pore removes: "
+                                            "any = a bond with an end in a pore (paper), both = "
+                                            "only bonds with both ends in it",
+                                            {{"any", false}, {"both", true}}, false);
   }
   return o;
 }
@@ -86,19 +91,19 @@ Lattice build_sample(const SampleOptions& o, SampleInfo& info) {
     info.affine = affine_moduli(lattice);
     return lattice;
   }
-  if (o.lattice_type == "fcc") {
+  if (o.lattice_type == LatticeType::fcc) {
     // Bond length a = 1 (the cube side is sqrt 2).
     lattice = make_fcc_lattice(o.fcc_cells, 1.0, o.random.stiffness);
   } else {
     lattice = make_random_lattice(o.random);
   }
   info.stats = lattice_stats(lattice);
-  if (o.inclusion_type != "none") {
+  if (o.inclusion_type != InclusionType::none) {
     const Inclusions inc = place_inclusions(lattice.box, o.inclusions);
     info.inclusion_fraction = inc.volume_fraction();
     info.inclusion_node_fraction = node_fraction_inside(lattice, inc);
     info.inclusion_count = static_cast<std::int64_t>(inc.centres.size());
-    if (o.inclusion_type == "stiff")
+    if (o.inclusion_type == InclusionType::stiff)
       stiffen_inclusions(lattice, inc, o.inclusion_stiffness_ratio);
     else
       carve_pores(lattice, inc, o.pore_needs_both_ends);

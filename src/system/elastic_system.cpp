@@ -22,15 +22,75 @@ const Stages& log_stages() {
   return stages;
 }
 
-// Solver defaults measured on this problem (docs/performance.md); any of them
-// can be overridden from the command line or an options file.
-void set_default_option(const char* name, const char* value) {
+// Solver defaults measured on this problem (docs/performance.md).  They are
+// set on the objects before KSPSetFromOptions, so any -ksp_*/-pc_*/-mg_*
+// option overrides them; this table only documents them (-help, provenance)
+// and must follow apply_solver_defaults() and default_no_inodes().
+struct SolverDefault {
+  const char *name, *value, *help;
+};
+const SolverDefault kSolverDefaults[] = {
+    {"-ksp_type", "cg", "Krylov method (K is symmetric positive definite)"},
+    {"-ksp_rtol", "1e-8", "Relative tolerance on the residual norm"},
+    {"-pc_type", "gamg", "Preconditioner: algebraic multigrid with the rigid-body modes as near "
+                         "null space"},
+    {"-pc_gamg_agg_nsmooths", "0", "Plain aggregation (no smoothing of the prolongator)"},
+    {"-pc_gamg_coarse_eq_limit", "1000", "Rows of the coarsest grid"},
+    {"-pc_mg_cycle_type", "w", "Multigrid cycle"},
+    {"-mg_levels_ksp_max_it", "1", "Chebyshev sweeps per level (with the coarse grid limit: "
+                                    "30-40 % less solve time than GAMG's defaults at 1.4e6 "
+                                    "bonds)"},
+    {"-mat_no_inode", "true", "No inode kernels for the AIJ matrix"},
+};
+
+bool option_given(const char* name) {
   PetscBool set = PETSC_FALSE;
   LEM_PETSC(PetscOptionsHasName(nullptr, nullptr, name, &set));
-  if (set) return;
-  LEM_PETSC(PetscOptionsSetValue(nullptr, name, value));
-  // Mark it used: a default that the chosen solver ignores is not a user typo.
-  LEM_PETSC(PetscOptionsHasName(nullptr, nullptr, name, &set));
+  return set == PETSC_TRUE;
+}
+
+// GAMG creates its levels when the preconditioner is set up and only then
+// reads -pc_mg_cycle_type and -mg_levels_ksp_max_it (PCMGSetCycleType needs
+// the levels): apply the defaults to the levels before every solve, after
+// KSPSetUp has (re)built them, unless an option sets them.
+PetscErrorCode multigrid_level_defaults(KSP ksp, Vec, Vec, void*) {
+  PetscFunctionBeginUser;
+  PC pc;
+  PetscCall(KSPGetPC(ksp, &pc));
+  PetscBool mg = PETSC_FALSE;
+  // ML and HMG are built on PCMG: the level defaults reach them too.
+  PetscCall(PetscObjectTypeCompareAny(reinterpret_cast<PetscObject>(pc), &mg, PCGAMG, PCMG, PCML,
+                                      PCHMG, ""));
+  PetscInt levels = 0;
+  if (mg) PetscCall(PCMGGetLevels(pc, &levels));
+  if (levels > 0) {
+    PetscBool set = PETSC_FALSE;
+    PetscCall(PetscOptionsHasName(nullptr, nullptr, "-pc_mg_cycle_type", &set));
+    if (!set) PetscCall(PCMGSetCycleType(pc, PC_MG_CYCLE_W));
+    PetscCall(PetscOptionsHasName(nullptr, nullptr, "-mg_levels_ksp_max_it", &set));
+    if (!set) PetscCall(PCMGSetNumberSmooth(pc, 1));
+  }
+  PetscFunctionReturn(0);
+}
+
+void apply_solver_defaults(KSP ksp) {
+  LEM_PETSC(KSPSetType(ksp, KSPCG));
+  LEM_PETSC(KSPSetTolerances(ksp, 1e-8, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT));
+  PC pc;
+  LEM_PETSC(KSPGetPC(ksp, &pc));
+  LEM_PETSC(PCSetType(pc, PCGAMG));
+  LEM_PETSC(PCGAMGSetNSmooths(pc, 0));
+  LEM_PETSC(PCGAMGSetCoarseEqLim(pc, 1000));
+  LEM_PETSC(KSPSetPreSolve(ksp, multigrid_level_defaults, nullptr));
+}
+
+// -mat_no_inode must also reach the matrices that GAMG creates inside
+// (coarse operators, prolongators), which only the options database does:
+// the one default still put there, unless the option was given.
+void default_no_inodes() {
+  if (option_given("-mat_no_inode")) return;
+  LEM_PETSC(PetscOptionsSetValue(nullptr, "-mat_no_inode", "true"));
+  option_given("-mat_no_inode");  // mark it used: BAIJ ignores it, which is no typo
 }
 
 bool fixed(std::uint8_t flags, int component) { return flags & (1u << component); }
@@ -49,7 +109,48 @@ void bond_direction(const DistributedLattice& l, int bond, double n[3]) {
 
 }  // namespace
 
-ElasticSystem::ElasticSystem(DistributedLattice& lattice) : lattice_(lattice) {
+SolverOptions read_solver_options(MPI_Comm comm) {
+  SolverOptions o;
+  {
+    OptionGroup g(comm, "Elastic system");
+    o.ground_stiffness =
+        g.real("-lattice_ground_stiffness", "Weak spring tying every free degree of freedom "
+               "to its rest position, relative to the mean nodal stiffness.  Phase "
+               "patterns and ruptures leave hinged clusters (mechanisms) that make K "
+               "singular and the multigrid preconditioner indefinite; 1e-10 removes them "
+               "and changes E_eff by < 1e-6 relative (docs/cemented-samples.md); 0 "
+               "disables", o.ground_stiffness, 0.0, 1e-3);
+  }
+  OptionGroup g(comm, "Linear solver (defaults set on PETSc's objects; any -ksp_*, -pc_*, "
+                      "-mg_* or -mat_* option overrides them)");
+  for (const SolverDefault& d : kSolverDefaults) g.petsc_default(d.name, d.help, d.value);
+  // Misspelt types fail here, before any work, rather than in KSPSetFromOptions.
+  LEM_PETSC(KSPInitializePackage());
+  LEM_PETSC(PCInitializePackage());
+  for (const char* prefix : {"-", "-fallback_", "-mg_levels_", "-mg_coarse_"}) {
+    check_type_option((std::string(prefix) + "ksp_type").c_str(), KSPList, "KSP");
+    check_type_option((std::string(prefix) + "pc_type").c_str(), PCList, "PC");
+  }
+  // (-mat_type is left to MatSetFromOptions: "aij", "baij" are root names
+  // outside MatList.)
+  PetscBool help = PETSC_FALSE;
+  LEM_PETSC(PetscOptionsHasHelp(nullptr, &help));
+  if (help) {  // let PETSc list its KSP and PC options, with our defaults as current values
+    KSP ksp;
+    LEM_PETSC(KSPCreate(comm, &ksp));
+    apply_solver_defaults(ksp);
+    const PetscErrorCode ierr = KSPSetFromOptions(ksp);
+    KSPDestroy(&ksp);
+    LEM_PETSC(ierr);
+  }
+  return o;
+}
+
+ElasticSystem::ElasticSystem(DistributedLattice& lattice)
+    : ElasticSystem(lattice, read_solver_options(lattice.comm)) {}
+
+ElasticSystem::ElasticSystem(DistributedLattice& lattice, const SolverOptions& options)
+    : lattice_(lattice) {
   LogStageScope stage(log_stages().assembly);
   const MPI_Comm comm = lattice_.comm;
   const int owned = lattice_.owned;
@@ -79,7 +180,7 @@ ElasticSystem::ElasticSystem(DistributedLattice& lattice) : lattice_(lattice) {
   LEM_PETSC(MatSetSizes(K_, 3 * owned, 3 * owned, PETSC_DETERMINE, PETSC_DETERMINE));
   LEM_PETSC(MatSetBlockSize(K_, 3));
   LEM_PETSC(MatSetType(K_, MATAIJ));
-  set_default_option("-mat_no_inode", "true");
+  default_no_inodes();
   LEM_PETSC(MatSetFromOptions(K_));
   LEM_PETSC(MatXAIJSetPreallocation(K_, 3, diag.data(), off.data(), nullptr, nullptr));
   LEM_PETSC(MatSetOption(K_, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
@@ -94,16 +195,7 @@ ElasticSystem::ElasticSystem(DistributedLattice& lattice) : lattice_(lattice) {
   double totals[2];
   MPI_Allreduce(sums, totals, 2, MPI_DOUBLE, MPI_SUM, comm);
   diagonal_scale_ = totals[1] > 0 ? totals[0] / (3.0 * totals[1]) : 1.0;
-  {
-    OptionGroup g(comm, "Elastic system");
-    ground_ = diagonal_scale_ *
-              g.real("-lattice_ground_stiffness", "Weak spring tying every free degree of freedom "
-                     "to its rest position, relative to the mean nodal stiffness.  Phase "
-                     "patterns and ruptures leave hinged clusters (mechanisms) that make K "
-                     "singular and the multigrid preconditioner indefinite; 1e-10 removes them "
-                     "and changes E_eff by < 1e-6 relative (docs/cemented-samples.md); 0 "
-                     "disables", 1e-10, 0.0, 1e-3);
-  }
+  ground_ = diagonal_scale_ * options.ground_stiffness;
 
   // Rigid-body modes as the near null space of the multigrid preconditioner.
   VecHandle coords;
@@ -118,18 +210,10 @@ ElasticSystem::ElasticSystem(DistributedLattice& lattice) : lattice_(lattice) {
   LEM_PETSC(MatNullSpaceCreateRigidBody(coords, rigid.replace()));
   LEM_PETSC(MatSetNearNullSpace(K_, rigid));
 
-  set_default_option("-ksp_type", "cg");
-  set_default_option("-pc_type", "gamg");
-  set_default_option("-pc_gamg_agg_nsmooths", "0");
-  set_default_option("-pc_mg_cycle_type", "w");
-  // One Chebyshev sweep per level and a 1000-row coarse grid: 30-40 % less
-  // solve time than GAMG's defaults at 1.4e6 bonds (docs/performance.md).
-  set_default_option("-mg_levels_ksp_max_it", "1");
-  set_default_option("-pc_gamg_coarse_eq_limit", "1000");
-  set_default_option("-ksp_rtol", "1e-8");
   LEM_PETSC(KSPCreate(comm, ksp_.replace()));
   LEM_PETSC(KSPSetOperators(ksp_, K_, K_));
   LEM_PETSC(KSPSetInitialGuessNonzero(ksp_, PETSC_TRUE));
+  apply_solver_defaults(ksp_);
   LEM_PETSC(KSPSetFromOptions(ksp_));
   create_fallback();  // now, so that its -fallback_* options count as used
   stage.pop();
