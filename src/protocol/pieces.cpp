@@ -1,5 +1,6 @@
 #include "lem/pieces.hpp"
 
+#include "lem/collective.hpp"
 #include "lem/error.hpp"
 
 #include <algorithm>
@@ -146,14 +147,7 @@ PieceReport PieceFinder::find() const {
   }
   std::vector<std::int64_t> mine;
   for (const auto& [piece, bits] : reach) mine.insert(mine.end(), {piece, bits, size[piece]});
-  int count = static_cast<int>(mine.size()), ranks = 1;
-  MPI_Comm_size(l.comm, &ranks);
-  std::vector<int> counts(ranks), offsets(ranks + 1, 0);
-  MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, l.comm);
-  for (int r = 0; r < ranks; ++r) offsets[r + 1] = offsets[r] + counts[r];
-  std::vector<std::int64_t> all(offsets[ranks]);
-  MPI_Allgatherv(mine.data(), count, MPI_INT64_T, all.data(), counts.data(), offsets.data(),
-                 MPI_INT64_T, l.comm);
+  const std::vector<std::int64_t> all = allgather(l.comm, mine);
   reach.clear();
   size.clear();
   for (std::size_t i = 0; i < all.size(); i += 3) {

@@ -7,6 +7,8 @@
 #include "lem/setup.hpp"
 #include "lem/voronoi.hpp"
 
+#include "../exact_solver_test.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -41,19 +43,7 @@ Lattice random_lattice(std::int64_t nodes, std::uint64_t seed = 5) {
   return make_random_lattice(s);
 }
 
-class Elastic : public ::testing::Test {
- protected:
-  void SetUp() override {
-    // Tight tolerance: these tests compare numbers at the 1e-6 level; and
-    // the exact lattice, without the regularising ground springs.
-    PetscOptionsSetValue(nullptr, "-ksp_rtol", "1e-12");
-    PetscOptionsSetValue(nullptr, "-lattice_ground_stiffness", "0");
-  }
-  void TearDown() override {
-    PetscOptionsClearValue(nullptr, "-ksp_rtol");
-    PetscOptionsClearValue(nullptr, "-lattice_ground_stiffness");
-  }
-};
+using Elastic = ExactSolverTest;
 
 }  // namespace
 

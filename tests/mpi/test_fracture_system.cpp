@@ -8,6 +8,8 @@
 #include "lem/protocol/damage_ledger.hpp"
 #include "lem/setup.hpp"
 
+#include "../exact_solver_test.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -29,17 +31,7 @@ DistributedLattice make_problem(const std::function<Lattice()>& build) {
       report);
 }
 
-class FractureParts : public ::testing::Test {
- protected:
-  void SetUp() override {
-    PetscOptionsSetValue(nullptr, "-ksp_rtol", "1e-12");
-    PetscOptionsSetValue(nullptr, "-lattice_ground_stiffness", "0");
-  }
-  void TearDown() override {
-    PetscOptionsClearValue(nullptr, "-ksp_rtol");
-    PetscOptionsClearValue(nullptr, "-lattice_ground_stiffness");
-  }
-};
+using FractureParts = ExactSolverTest;
 
 Lattice random_lattice(std::int64_t nodes, std::uint64_t seed) {
   RandomLatticeSpec s;

@@ -1,7 +1,7 @@
 // The parts of the fracture protocol that need no solver: the break rule's
 // arithmetic, the preconditioner rebuild rule, threshold disorder, the
-// time-left estimate, fingerprints and the checkpoint file format.
-#include "lem/byte_stream.hpp"
+// time-left estimate, fingerprints and the checkpoint file format (the
+// byte serialiser under it is tested in test_base).
 #include "lem/error.hpp"
 #include "lem/protocol/break_rule.hpp"
 #include "lem/protocol/checkpoint.hpp"
@@ -216,26 +216,4 @@ TEST(Checkpoint, FileRoundTripsAndRefusesDamage) {
   }
   expect_refused(path, "wrong header");
   std::remove(path.c_str());
-}
-
-TEST(ByteStream, ReadsBackWhatWasWrittenAndStopsAtTheEnd) {
-  ByteWriter w;
-  w.pod(std::int32_t{-7});
-  w.vec(std::vector<double>{1.5, 2.5});
-  w.str("abc");
-  ByteReader r(w.bytes, w.bytes.size());
-  std::int32_t i = 0;
-  std::vector<double> v;
-  std::string s;
-  r.pod(i), r.vec(v), r.str(s);
-  EXPECT_EQ(i, -7);
-  EXPECT_EQ(v, (std::vector<double>{1.5, 2.5}));
-  EXPECT_EQ(s, "abc");
-  EXPECT_TRUE(r.at_end());
-  EXPECT_THROW(r.pod(i), std::runtime_error);
-  // A length prefix larger than what is left is refused before allocating.
-  ByteWriter big;
-  big.pod(std::uint64_t{1} << 40);
-  ByteReader rb(big.bytes, big.bytes.size());
-  EXPECT_THROW(rb.vec(v), std::runtime_error);
 }
