@@ -54,7 +54,8 @@ Prepared prepare(MPI_Comm comm, const lem::SampleOptions& sample, double break_s
   if (lattice.bond_strength.empty()) {  // generated lattice: f = k a eps_b
     lattice.bond_strength.resize(lattice.bond_stiffness.size());
     for (int b = 0; b < lattice.local_bonds(); ++b)
-      lattice.bond_strength[b] = lattice.bond_stiffness[b] * lattice.mean_bond_length * break_strain;
+      lattice.bond_strength[b] =
+          lattice.bond_stiffness[b] * lattice.mean_bond_length * break_strain;
   }
   lem::apply_strength_disorder(lattice, options);
   return p;
@@ -107,6 +108,13 @@ lem::Calibration calibrate(MPI_Comm comm, const lem::SampleOptions& sample,
   if (!chosen)
     path = std::filesystem::path(sample.sample_file).replace_extension().string() +
            ".calibration-" + lem::calibration_key(fingerprint) + ".txt";
+  if (chosen)  // before a calibration that could not be stored
+    lem::run_on_root(comm, [&] {
+      const auto folder = std::filesystem::path(path).parent_path();
+      if (!folder.empty() && !std::filesystem::is_directory(folder))
+        throw lem::InputError("option -fracture_calibration_file: the folder of '" + path +
+                              "' does not exist");
+    });
   if (const auto stored = lem::read_calibration(comm, path, fingerprint)) {
     lem::say("calibration: sigma^[p] = %.6g, E^[p] = %.6g (E^phase units) from %s\n",
              stored->sigma_hom, stored->e_hom, path.c_str());

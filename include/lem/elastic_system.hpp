@@ -62,8 +62,6 @@ class ElasticSystem {
   /// solver defaults, then lets the -mat_type, -ksp_* and -pc_* options
   /// override them.  Does not assemble.
   ElasticSystem(DistributedLattice& lattice, const SolverOptions& options);
-  /// Reads the solver options itself (tests; drivers read them once).
-  explicit ElasticSystem(DistributedLattice& lattice);
   ~ElasticSystem();
   ElasticSystem(const ElasticSystem&) = delete;
   ElasticSystem& operator=(const ElasticSystem&) = delete;

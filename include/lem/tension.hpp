@@ -24,6 +24,9 @@ enum DofFlag : std::uint8_t {
   kPinned = 16      // carries no bond: all three displacements fixed at 0
 };
 
+/// Displacement component a (0, 1, 2) of a node with these flags is prescribed.
+inline bool is_fixed(std::uint8_t flags, int component) { return flags & (1u << component); }
+
 struct TensionConstraints {
   std::vector<std::uint8_t> dof_flags;   // per node
   std::vector<char> bond_active;         // bonds kept in the system

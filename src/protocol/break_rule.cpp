@@ -32,6 +32,7 @@ CriticalBonds::CriticalBonds(const DistributedLattice& l, BreakRule rule)
     if (l.bond_reported[b] && !l.bond_strength.empty() && l.bond_strength[b] > 0)
       sums[0] += l.bond_strength[b], sums[1] += 1;
   MPI_Allreduce(sums, totals, 2, MPI_DOUBLE, MPI_SUM, l.comm);
+  mean_threshold_ = totals[1] > 0 ? totals[0] / totals[1] : 1.0;
   force_floor_ = totals[1] > 0 ? 1e-6 * totals[0] / totals[1] : 0.0;
 }
 

@@ -37,7 +37,7 @@ class Protocol {
       : l_(l), system_(s), o_(o), critical_(l, o.break_rule), ledger_(l, s),
         solver_(s, ledger_, {o.rebuild_after_ruptures, o.rebuild_iteration_growth},
                 state_.preconditioner, state_.tally),
-        recorder_(l, s, o, provenance), progress_(o, l.mean_bond_length, l.box.length(2)),
+        recorder_(l, s, o, provenance), progress_(o),
         relaxation_(make_relaxation(RelaxationParts{l, s, o, critical_, ledger_, solver_,
                                                     recorder_, progress_, clock_, state_.tally})),
         checkpoint_(l, o.output_dir + "/checkpoint.bin", fracture_fingerprint(l, o)) {}
@@ -131,7 +131,7 @@ void Protocol::visit(std::int64_t step, bool first) {
   if (first) tally_.young_modulus = r.young_modulus;
   note_peak(r);
   recorder_.curve_row(step, r, stress_before, relaxed.cycles, false, tally_, clock_.elapsed());
-  progress_.step_done(step, r.stress_zz, relaxed.broken, relaxed.cycles, tally_,
+  progress_.step_done(step, strain_of(step), r.stress_zz, relaxed.broken, relaxed.cycles, tally_,
                       clock_.elapsed());
   recorder_.snapshot_if_due(step, last_visit_, r);
   last_visit_ = step;

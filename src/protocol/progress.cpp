@@ -34,17 +34,12 @@ std::optional<double> TimeLeftEstimate::update(double seconds, double stress, do
   return std::max(0.0, left);
 }
 
-ProgressReporter::ProgressReporter(const FractureOptions& options, double mean_bond_length,
-                                   double height)
-    : options_(options), mean_bond_length_(mean_bond_length), height_(height) {}
-
-void ProgressReporter::step_done(std::int64_t step, double stress, std::int64_t new_breaks,
-                                 int cycles, const FractureTally& t, double elapsed) {
+void ProgressReporter::step_done(std::int64_t step, double strain, double stress,
+                                 std::int64_t new_breaks, int cycles, const FractureTally& t,
+                                 double elapsed) {
   const double now = MPI_Wtime();
   if (new_breaks == 0 && now - last_line_ < 10.0) return;
   last_line_ = now;
-  const double strain =
-      static_cast<double>(step) * options_.increment * mean_bond_length_ / height_;
   const double bound =
       options_.max_strain_ratio > 0 ? options_.max_strain_ratio * t.strain_at_peak : 0.0;
   const auto left = estimate_.update(elapsed, stress, strain, t.peak_stress,

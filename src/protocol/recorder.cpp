@@ -154,7 +154,8 @@ void FractureRecorder::finish() {
   run_on_root(lattice_.comm, [&] {
     curve_.reset();
     broken_.reset();
-    for (const std::string& path : {curve_path_, broken_path_}) move_into_place(path + ".part", path);
+    for (const std::string& path : {curve_path_, broken_path_})
+      move_into_place(path + ".part", path);
   });
 }
 

@@ -43,6 +43,13 @@ bool Relaxation::break_batch(const std::vector<Rupture>& batch, std::int64_t ste
   return pieces.faces_joined;
 }
 
+void Relaxation::note_batch(std::int64_t step, const std::vector<Rupture>& batch,
+                            RelaxationOutcome& out) {
+  out.broken += static_cast<std::int64_t>(batch.size());
+  out.cycles += 1;
+  p_.progress.relaxing(step, out.cycles, out.broken, p_.clock.elapsed());
+}
+
 bool Relaxation::stress_fell(double stress_before) const {
   return p_.options.stop_within_step &&
          p_.system.response().stress_zz <
@@ -56,10 +63,8 @@ RelaxationOutcome GlobalRelaxation::relax(std::int64_t step, double top_displace
     const std::vector<Rupture> critical = p_.critical.find(p_.system.bond_tensions());
     if (critical.empty()) break;
     const bool joined = break_batch(critical, step, out.cycles, strain);
-    out.broken += static_cast<std::int64_t>(critical.size());
     p_.solver.solve(top_displacement, true);
-    out.cycles += 1;
-    p_.progress.relaxing(step, out.cycles, out.broken, p_.clock.elapsed());
+    note_batch(step, critical, out);
     if (!joined) {
       out.disconnected = true;
       break;

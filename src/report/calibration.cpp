@@ -3,6 +3,7 @@
 #include "lem/byte_stream.hpp"
 #include "lem/error.hpp"
 #include "lem/files.hpp"
+#include "lem/log.hpp"
 #include "lem/protocol/checkpoint.hpp"
 
 #include <cstdio>
@@ -42,11 +43,13 @@ std::optional<Calibration> read_calibration(MPI_Comm comm, const std::string& pa
   run_on_root(comm, [&] {
     std::ifstream in(path);
     if (!in) return;
-    std::string stored, line;
+    std::string stored, line, written_by;
     bool have_sigma = false, have_e = false;
     while (std::getline(in, line)) {
       if (line.rfind(kFingerprintLine, 0) == 0) {
         stored += line.substr(std::string(kFingerprintLine).size() + 1) + "\n";
+      } else if (line.rfind("# written by ", 0) == 0) {
+        written_by = line.substr(2);
       } else if (line.rfind("sigma_hom=", 0) == 0) {
         have_sigma = std::sscanf(line.c_str() + 10, "%lf", &c.sigma_hom) == 1;
       } else if (line.rfind("E_hom=", 0) == 0) {
@@ -64,6 +67,8 @@ std::optional<Calibration> read_calibration(MPI_Comm comm, const std::string& pa
                        "other options:" + differs + "\npass the calibration file of this sample, "
                        "or remove it to calibrate again");
     found = 1;
+    // The code that made it is not part of the key: say which it was.
+    say("calibration: reusing the values %s\n", written_by.c_str());
   });
   MPI_Bcast(&found, 1, MPI_INT, 0, comm);
   if (!found) return std::nullopt;

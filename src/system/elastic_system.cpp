@@ -1,5 +1,7 @@
 #include "lem/elastic_system.hpp"
 
+#include "solver_defaults.hpp"
+
 #include "lem/error.hpp"
 #include "lem/log.hpp"
 #include "lem/options.hpp"
@@ -22,79 +24,6 @@ const Stages& log_stages() {
   return stages;
 }
 
-// Solver defaults measured on this problem (docs/performance.md).  They are
-// set on the objects before KSPSetFromOptions, so any -ksp_*/-pc_*/-mg_*
-// option overrides them; this table only documents them (-help, provenance)
-// and must follow apply_solver_defaults() and default_no_inodes().
-struct SolverDefault {
-  const char *name, *value, *help;
-};
-const SolverDefault kSolverDefaults[] = {
-    {"-ksp_type", "cg", "Krylov method (K is symmetric positive definite)"},
-    {"-ksp_rtol", "1e-8", "Relative tolerance on the residual norm"},
-    {"-pc_type", "gamg", "Preconditioner: algebraic multigrid with the rigid-body modes as near "
-                         "null space"},
-    {"-pc_gamg_agg_nsmooths", "0", "Plain aggregation (no smoothing of the prolongator)"},
-    {"-pc_gamg_coarse_eq_limit", "1000", "Rows of the coarsest grid"},
-    {"-pc_mg_cycle_type", "w", "Multigrid cycle"},
-    {"-mg_levels_ksp_max_it", "1", "Chebyshev sweeps per level (with the coarse grid limit: "
-                                    "30-40 % less solve time than GAMG's defaults at 1.4e6 "
-                                    "bonds)"},
-    {"-mat_no_inode", "true", "No inode kernels for the AIJ matrix"},
-};
-
-bool option_given(const char* name) {
-  PetscBool set = PETSC_FALSE;
-  LEM_PETSC(PetscOptionsHasName(nullptr, nullptr, name, &set));
-  return set == PETSC_TRUE;
-}
-
-// GAMG creates its levels when the preconditioner is set up and only then
-// reads -pc_mg_cycle_type and -mg_levels_ksp_max_it (PCMGSetCycleType needs
-// the levels): apply the defaults to the levels before every solve, after
-// KSPSetUp has (re)built them, unless an option sets them.
-PetscErrorCode multigrid_level_defaults(KSP ksp, Vec, Vec, void*) {
-  PetscFunctionBeginUser;
-  PC pc;
-  PetscCall(KSPGetPC(ksp, &pc));
-  PetscBool mg = PETSC_FALSE;
-  // ML and HMG are built on PCMG: the level defaults reach them too.
-  PetscCall(PetscObjectTypeCompareAny(reinterpret_cast<PetscObject>(pc), &mg, PCGAMG, PCMG, PCML,
-                                      PCHMG, ""));
-  PetscInt levels = 0;
-  if (mg) PetscCall(PCMGGetLevels(pc, &levels));
-  if (levels > 0) {
-    PetscBool set = PETSC_FALSE;
-    PetscCall(PetscOptionsHasName(nullptr, nullptr, "-pc_mg_cycle_type", &set));
-    if (!set) PetscCall(PCMGSetCycleType(pc, PC_MG_CYCLE_W));
-    PetscCall(PetscOptionsHasName(nullptr, nullptr, "-mg_levels_ksp_max_it", &set));
-    if (!set) PetscCall(PCMGSetNumberSmooth(pc, 1));
-  }
-  PetscFunctionReturn(0);
-}
-
-void apply_solver_defaults(KSP ksp) {
-  LEM_PETSC(KSPSetType(ksp, KSPCG));
-  LEM_PETSC(KSPSetTolerances(ksp, 1e-8, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT));
-  PC pc;
-  LEM_PETSC(KSPGetPC(ksp, &pc));
-  LEM_PETSC(PCSetType(pc, PCGAMG));
-  LEM_PETSC(PCGAMGSetNSmooths(pc, 0));
-  LEM_PETSC(PCGAMGSetCoarseEqLim(pc, 1000));
-  LEM_PETSC(KSPSetPreSolve(ksp, multigrid_level_defaults, nullptr));
-}
-
-// -mat_no_inode must also reach the matrices that GAMG creates inside
-// (coarse operators, prolongators), which only the options database does:
-// the one default still put there, unless the option was given.
-void default_no_inodes() {
-  if (option_given("-mat_no_inode")) return;
-  LEM_PETSC(PetscOptionsSetValue(nullptr, "-mat_no_inode", "true"));
-  option_given("-mat_no_inode");  // mark it used: BAIJ ignores it, which is no typo
-}
-
-bool fixed(std::uint8_t flags, int component) { return flags & (1u << component); }
-
 // Unit vector of a local bond, from its first end to its second.
 void bond_direction(const DistributedLattice& l, int bond, double n[3]) {
   const auto [p, q] = l.bond_ends[bond];
@@ -108,46 +37,6 @@ void bond_direction(const DistributedLattice& l, int bond, double n[3]) {
 }
 
 }  // namespace
-
-SolverOptions read_solver_options(MPI_Comm comm) {
-  SolverOptions o;
-  {
-    OptionGroup g(comm, "Elastic system");
-    o.ground_stiffness =
-        g.real("-lattice_ground_stiffness", "Weak spring tying every free degree of freedom "
-               "to its rest position, relative to the mean nodal stiffness.  Phase "
-               "patterns and ruptures leave hinged clusters (mechanisms) that make K "
-               "singular and the multigrid preconditioner indefinite; 1e-10 removes them "
-               "and changes E_eff by < 1e-6 relative (docs/cemented-samples.md); 0 "
-               "disables", o.ground_stiffness, 0.0, 1e-3);
-  }
-  OptionGroup g(comm, "Linear solver (defaults set on PETSc's objects; any -ksp_*, -pc_*, "
-                      "-mg_* or -mat_* option overrides them)");
-  for (const SolverDefault& d : kSolverDefaults) g.petsc_default(d.name, d.help, d.value);
-  // Misspelt types fail here, before any work, rather than in KSPSetFromOptions.
-  LEM_PETSC(KSPInitializePackage());
-  LEM_PETSC(PCInitializePackage());
-  for (const char* prefix : {"-", "-fallback_", "-mg_levels_", "-mg_coarse_"}) {
-    check_type_option((std::string(prefix) + "ksp_type").c_str(), KSPList, "KSP");
-    check_type_option((std::string(prefix) + "pc_type").c_str(), PCList, "PC");
-  }
-  // (-mat_type is left to MatSetFromOptions: "aij", "baij" are root names
-  // outside MatList.)
-  PetscBool help = PETSC_FALSE;
-  LEM_PETSC(PetscOptionsHasHelp(nullptr, &help));
-  if (help) {  // let PETSc list its KSP and PC options, with our defaults as current values
-    KSP ksp;
-    LEM_PETSC(KSPCreate(comm, &ksp));
-    apply_solver_defaults(ksp);
-    const PetscErrorCode ierr = KSPSetFromOptions(ksp);
-    KSPDestroy(&ksp);
-    LEM_PETSC(ierr);
-  }
-  return o;
-}
-
-ElasticSystem::ElasticSystem(DistributedLattice& lattice)
-    : ElasticSystem(lattice, read_solver_options(lattice.comm)) {}
 
 ElasticSystem::ElasticSystem(DistributedLattice& lattice, const SolverOptions& options)
     : lattice_(lattice) {
@@ -236,9 +125,9 @@ void ElasticSystem::add_bond_block(int bond, double k_change) {
     for (int a = 0; a < 3; ++a)
       for (int c = 0; c < 3; ++c) {
         const double k = k_change * n[a] * n[c];
-        const bool row_fixed = fixed(fr, a);
-        values[a * 6 + c] = (row_fixed || fixed(fr, c)) ? 0.0 : k;
-        values[a * 6 + 3 + c] = (row_fixed || fixed(fo, c)) ? 0.0 : -k;
+        const bool row_fixed = is_fixed(fr, a);
+        values[a * 6 + c] = (row_fixed || is_fixed(fr, c)) ? 0.0 : k;
+        values[a * 6 + 3 + c] = (row_fixed || is_fixed(fo, c)) ? 0.0 : -k;
       }
     LEM_PETSC(MatSetValuesBlocked(K_, 1, &row, 2, cols, values, ADD_VALUES));
   }
@@ -251,7 +140,7 @@ void ElasticSystem::assemble() {
   for (int n = 0; n < lattice_.owned; ++n) {
     const std::uint8_t f = lattice_.dof_flags[n];
     PetscScalar block[9] = {};
-    for (int a = 0; a < 3; ++a) block[4 * a] = fixed(f, a) ? diagonal_scale_ : ground_;
+    for (int a = 0; a < 3; ++a) block[4 * a] = is_fixed(f, a) ? diagonal_scale_ : ground_;
     const PetscInt row = static_cast<PetscInt>(lattice_.global_index[n]);
     // Always touch the diagonal block so that it is part of the pattern.
     LEM_PETSC(MatSetValuesBlocked(K_, 1, &row, 1, &row, block, ADD_VALUES));
@@ -294,17 +183,17 @@ void ElasticSystem::assemble_rhs(double top_displacement) {
       // Relative prescribed displacement seen by this bond along n.
       double stretch = 0;
       for (int c = 0; c < 3; ++c) {
-        if (fixed(fr, c)) stretch -= n[c] * prescribed(me, c);
-        if (fixed(fo, c)) stretch += n[c] * prescribed(other, c);
+        if (is_fixed(fr, c)) stretch -= n[c] * prescribed(me, c);
+        if (is_fixed(fo, c)) stretch += n[c] * prescribed(other, c);
       }
       if (stretch == 0.0) continue;
       for (int a = 0; a < 3; ++a)
-        if (!fixed(fr, a)) rhs[3 * me + a] += k * n[a] * stretch;
+        if (!is_fixed(fr, a)) rhs[3 * me + a] += k * n[a] * stretch;
     }
   }
   for (int n = 0; n < lattice_.owned; ++n)
     for (int a = 0; a < 3; ++a)
-      if (fixed(lattice_.dof_flags[n], a)) rhs[3 * n + a] = diagonal_scale_ * prescribed(n, a);
+      if (is_fixed(lattice_.dof_flags[n], a)) rhs[3 * n + a] = diagonal_scale_ * prescribed(n, a);
   LEM_PETSC(VecRestoreArray(b_, &rhs));
 }
 
@@ -322,7 +211,7 @@ SolveReport ElasticSystem::solve(double top_displacement) {
     const std::uint8_t f = lattice_.dof_flags[n];
     for (int a = 0; a < 3; ++a) {
       double& v = u[3 * n + a];
-      if (fixed(f, a))
+      if (is_fixed(f, a))
         v = (a == 2 && (f & kLoadedTop)) ? top_displacement : 0.0;
       else if (first)
         v = a == 2 ? top_displacement * (lattice_.coords[n][2] - zlo) / height : 0.0;
@@ -473,7 +362,7 @@ void ElasticSystem::pin_nodes(const std::vector<int>& local_nodes) {
     if (n >= lattice_.owned || (old & kPinned)) continue;
     // Free rows carried the ground spring, fixed rows the constrained scale.
     PetscScalar block[9] = {};
-    for (int a = 0; a < 3; ++a) block[4 * a] = fixed(old, a) ? 0.0 : diagonal_scale_ - ground_;
+    for (int a = 0; a < 3; ++a) block[4 * a] = is_fixed(old, a) ? 0.0 : diagonal_scale_ - ground_;
     const PetscInt row = static_cast<PetscInt>(lattice_.global_index[n]);
     LEM_PETSC(MatSetValuesBlocked(K_, 1, &row, 1, &row, block, ADD_VALUES));
   }
@@ -590,66 +479,6 @@ TensionResponse ElasticSystem::response() const {
     r.poisson_ratio = -(r.strain_xx + r.strain_yy) / (2 * r.strain_zz);
   }
   return r;
-}
-
-KSP create_patch_solver(MPI_Comm comm, double rtol) {
-  KSP ksp = nullptr;
-  LEM_PETSC(KSPCreate(comm, &ksp));
-  LEM_PETSC(KSPSetOptionsPrefix(ksp, "patch_"));
-  LEM_PETSC(KSPSetType(ksp, KSPCG));
-  PC pc = nullptr;
-  LEM_PETSC(KSPGetPC(ksp, &pc));
-  LEM_PETSC(PCSetType(pc, PCJACOBI));
-  LEM_PETSC(KSPSetTolerances(ksp, rtol, PETSC_DEFAULT, PETSC_DEFAULT, 5000));
-  LEM_PETSC(KSPSetFromOptions(ksp));
-  return ksp;
-}
-
-SolveReport ElasticSystem::relax_patch(const std::vector<int>& owned_nodes, double rtol) {
-  const MPI_Comm comm = lattice_.comm;
-  SolveReport report;
-  const double t0 = MPI_Wtime();
-  // Out-of-balance forces of the current state.
-  assemble_rhs(current_displacement_);
-  Vec r = nullptr;
-  LEM_PETSC(VecDuplicate(b_, &r));
-  LEM_PETSC(MatMult(K_, u_, r));
-  LEM_PETSC(VecAYPX(r, -1.0, b_));
-  std::vector<PetscInt> rows;
-  for (int n : owned_nodes)
-    for (int a = 0; a < 3; ++a)
-      if (!fixed(lattice_.dof_flags[n], a))
-        rows.push_back(3 * static_cast<PetscInt>(lattice_.global_index[n]) + a);
-  IS is = nullptr;
-  LEM_PETSC(ISCreateGeneral(comm, static_cast<PetscInt>(rows.size()), rows.data(),
-                            PETSC_COPY_VALUES, &is));
-  Mat patch = nullptr;
-  LEM_PETSC(MatCreateSubMatrix(K_, is, is, MAT_INITIAL_MATRIX, &patch));
-  Vec rhs = nullptr, du = nullptr;
-  LEM_PETSC(VecGetSubVector(r, is, &rhs));
-  LEM_PETSC(VecDuplicate(rhs, &du));
-  KSP ksp = create_patch_solver(comm, rtol);
-  LEM_PETSC(KSPSetOperators(ksp, patch, patch));
-  LEM_PETSC(KSPSolve(ksp, rhs, du));
-  PetscInt its = 0;
-  LEM_PETSC(KSPGetIterationNumber(ksp, &its));
-  LEM_PETSC(KSPGetConvergedReason(ksp, &report.reason));
-  report.iterations = static_cast<int>(its);
-  LEM_PETSC(VecRestoreSubVector(r, is, &rhs));
-  if (report.reason > 0) {
-    Vec u_patch = nullptr;
-    LEM_PETSC(VecGetSubVector(u_, is, &u_patch));
-    LEM_PETSC(VecAXPY(u_patch, 1.0, du));
-    LEM_PETSC(VecRestoreSubVector(u_, is, &u_patch));
-    update_ghosts();
-  }
-  LEM_PETSC(KSPDestroy(&ksp));
-  LEM_PETSC(VecDestroy(&du));
-  LEM_PETSC(MatDestroy(&patch));
-  LEM_PETSC(ISDestroy(&is));
-  LEM_PETSC(VecDestroy(&r));
-  report.solve_seconds = MPI_Wtime() - t0;
-  return report;
 }
 
 }  // namespace lem

@@ -50,7 +50,7 @@ using Elastic = ExactSolverTest;
 TEST_F(Elastic, FccUniaxialTensionMatchesAnalyticModuli) {
   const double k = 1.0, a = 1.0;
   Problem p = make_problem(PETSC_COMM_WORLD, [&] { return make_fcc_lattice({5, 5, 5}, a, k); });
-  ElasticSystem system(p.lattice);
+  ElasticSystem system(p.lattice, exact);
   system.assemble();
   system.solve(1e-3);
   const TensionResponse r = system.response();
@@ -62,7 +62,7 @@ TEST_F(Elastic, FccUniaxialTensionMatchesAnalyticModuli) {
 
 TEST_F(Elastic, StoredEnergyEqualsWorkOfTheLoad) {
   Problem p = make_problem(PETSC_COMM_WORLD, [] { return random_lattice(3000); });
-  ElasticSystem system(p.lattice);
+  ElasticSystem system(p.lattice, exact);
   system.assemble();
   system.solve(1e-4);
   const TensionResponse r = system.response();
@@ -76,7 +76,7 @@ TEST_F(Elastic, StoredEnergyEqualsWorkOfTheLoad) {
 TEST_F(Elastic, MatrixEqualsDenseReferenceAssembly) {
   const Lattice global = random_lattice(120, 9);
   Problem p = make_problem(PETSC_COMM_WORLD, [&] { return global; });
-  ElasticSystem system(p.lattice);
+  ElasticSystem system(p.lattice, exact);
   system.assemble();
   const DistributedLattice& l = p.lattice;
   // Dense K over the lattice numbering, straight from the definition.
@@ -134,7 +134,7 @@ TEST_F(Elastic, MatrixEqualsDenseReferenceAssembly) {
 
 TEST_F(Elastic, InPlaceStiffnessChangeKeepsPatternAndEqualsFreshAssembly) {
   Problem p = make_problem(PETSC_COMM_WORLD, [] { return random_lattice(2000, 4); });
-  ElasticSystem system(p.lattice);
+  ElasticSystem system(p.lattice, exact);
   system.assemble();
   MatInfo before;
   MatGetInfo(system.matrix(), MAT_GLOBAL_SUM, &before);
@@ -166,7 +166,7 @@ TEST_F(Elastic, SameAnswerOnAllRanksAndOnOne) {
   auto build = [] { return random_lattice(4000, 21); };
   Problem wide = make_problem(PETSC_COMM_WORLD, build);
   Problem alone = make_problem(PETSC_COMM_SELF, build);
-  ElasticSystem sw(wide.lattice), sa(alone.lattice);
+  ElasticSystem sw(wide.lattice, exact), sa(alone.lattice, exact);
   sw.assemble();
   sa.assemble();
   sw.solve(2e-4);
@@ -212,18 +212,17 @@ TEST_F(Elastic, GroundSpringsRemoveHingedClustersWithoutChangingTheModulus) {
       hinged.bonds.push_back({tet[i], tet[j]});
       hinged.stiffness.push_back(1.0);
     }
-  PetscOptionsClearValue(nullptr, "-lattice_ground_stiffness");  // the default
-  auto modulus = [](const Lattice& l) {
+  auto modulus = [](const Lattice& l, const SolverOptions& solver) {
     Problem p = make_problem(PETSC_COMM_WORLD, [&] { return l; });
-    ElasticSystem system(p.lattice);
+    ElasticSystem system(p.lattice, solver);
     system.assemble();
     system.solve(1e-4);
     return system.response().young_modulus;
   };
-  const double e_base = modulus(base), e_hinged = modulus(hinged);
+  const SolverOptions grounded;  // the default ground springs
+  const double e_base = modulus(base, grounded), e_hinged = modulus(hinged, grounded);
   EXPECT_NEAR(e_hinged / e_base, 1.0, 1e-6);
-  PetscOptionsSetValue(nullptr, "-lattice_ground_stiffness", "0");
-  EXPECT_NEAR(modulus(base) / e_base, 1.0, 1e-6);  // the springs do not show
+  EXPECT_NEAR(modulus(base, exact) / e_base, 1.0, 1e-6);  // the springs do not show
 }
 
 // Node stresses (paper eq. 1 / C.6).
@@ -239,7 +238,7 @@ struct StressedLattice {
 StressedLattice stressed(const Lattice& lattice, double displacement) {
   StressedLattice s;
   s.problem = make_problem(PETSC_COMM_WORLD, [&] { return lattice; });
-  ElasticSystem system(s.problem.lattice);
+  ElasticSystem system(s.problem.lattice, SolverOptions{0.0});  // the exact lattice
   system.assemble();
   system.solve(displacement);
   s.response = system.response();

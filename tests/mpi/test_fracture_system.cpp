@@ -64,7 +64,7 @@ TEST_F(FractureParts, FccCriticalBondsAreTheInclinedOnes) {
   // edge bonds have a share of k, and of f).
   l.bond_strength.resize(l.bond_stiffness.size());
   for (int b = 0; b < l.local_bonds(); ++b) l.bond_strength[b] = l.bond_stiffness[b] * a * eps_b;
-  ElasticSystem system(l);
+  ElasticSystem system(l, exact);
   system.assemble();
   const auto inclined = global_bond_ids(l, [&](int b) {
     const auto [p, q] = l.bond_ends[b];
@@ -102,14 +102,15 @@ TEST_F(FractureParts, FccCriticalBondsAreTheInclinedOnes) {
 TEST_F(FractureParts, LedgerReplayRebuildsTheSameSystem) {
   auto build = [] { return random_lattice(1500, 11); };
   DistributedLattice la = make_problem(build), lb = make_problem(build);
-  ElasticSystem sa(la), sb(lb);
+  ElasticSystem sa(la, exact), sb(lb, exact);
   sa.assemble();
   sb.assemble();
   DamageLedger live(la, sa), replayed(lb, sb);
 
   const auto ids = global_bond_ids(la, [](int) { return true; });
   std::vector<std::int64_t> first, second;
-  for (std::size_t i = 0; i < ids.size(); i += 97) (first.size() < 12 ? first : second).push_back(ids[i]);
+  for (std::size_t i = 0; i < ids.size(); i += 97)
+    (first.size() < 12 ? first : second).push_back(ids[i]);
   live.open_batch();
   live.break_bonds(first);
   sa.finish_updates();
@@ -151,7 +152,7 @@ TEST_F(FractureParts, PatchSolveApproachesTheGlobalFieldAsThePatchGrows) {
   std::vector<double> errors;
   for (double radius : {2.0, 4.0, 7.0}) {
     DistributedLattice l = make_problem(build);
-    ElasticSystem system(l);
+    ElasticSystem system(l, exact);
     system.assemble();
     system.solve(delta);
     const auto before = system.bond_tensions();

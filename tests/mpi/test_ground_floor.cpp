@@ -159,17 +159,17 @@ TEST(Raii, LogStageScopePopsWhenLeftByAnException) {
 TEST(Raii, ElasticSystemConstructorThrowingLeaksNothing) {
   ASSERT_EQ(PetscLogDefaultBegin(), 0);
   DistributedLattice lattice = small_lattice();
-  { ElasticSystem warm_up(lattice); }  // PETSc's own first-use objects
+  { ElasticSystem warm_up(lattice, SolverOptions{}); }  // PETSc's own first-use objects
   const long live = live_objects();
   const int stage = current_stage();
-  { ElasticSystem fine(lattice); }
+  { ElasticSystem fine(lattice, SolverOptions{}); }
   EXPECT_EQ(live_objects(), live);
 
   // An unknown matrix type makes MatSetFromOptions fail after the vectors
   // and the matrix exist, inside the "Assembly" log stage.
   ASSERT_EQ(PetscOptionsSetValue(nullptr, "-mat_type", "no_such_type"), 0);
   ASSERT_EQ(PetscPushErrorHandler(PetscReturnErrorHandler, nullptr), 0);  // no trace printed
-  EXPECT_THROW(ElasticSystem broken(lattice), PetscFailure);
+  EXPECT_THROW(ElasticSystem broken(lattice, SolverOptions{}), PetscFailure);
   PetscPopErrorHandler();
   ASSERT_EQ(PetscOptionsClearValue(nullptr, "-mat_type"), 0);
   EXPECT_EQ(live_objects(), live);

@@ -143,7 +143,8 @@ TEST(Checkpoint, FingerprintDifferencesNameTheLinesAndAllowOtherRankCounts) {
   EXPECT_EQ(other, 0);
   EXPECT_EQ(fingerprint_differences("ranks=1\nnodes=10\nincrement=0.0003\n", ours, other), "");
   EXPECT_EQ(other, 1);
-  const std::string d = fingerprint_differences("ranks=2\nnodes=10\nincrement=0.001\n", ours, other);
+  const std::string d =
+      fingerprint_differences("ranks=2\nnodes=10\nincrement=0.001\n", ours, other);
   EXPECT_NE(d.find("checkpoint: increment=0.001"), std::string::npos);
   EXPECT_NE(d.find("this run: increment=0.0003"), std::string::npos);
   EXPECT_NE(fingerprint_differences("ranks=2\n", ours, other), "");

@@ -53,11 +53,13 @@ class CriticalBonds {
   void check_first_increment(const std::vector<double>& tensions, double increment) const;
 
   double force_floor() const { return force_floor_; }
+  /// Mean of the positive thresholds (1 when there is none).
+  double mean_threshold() const { return mean_threshold_; }
 
  private:
   const DistributedLattice& lattice_;
   BreakRule rule_;
-  double force_floor_ = 0;
+  double mean_threshold_ = 1, force_floor_ = 0;
 };
 
 }  // namespace lem

@@ -1,8 +1,8 @@
 // Relaxation whose cost follows the damage: after a batch of ruptures found
 // in a global equilibrium, the nodes within R mean bond lengths of the
-// ruptures since that equilibrium are relaxed with the rest held (a patch solve, relax_patch); bonds whose
-// force in that patch field exceeds (1 + margin) times their threshold are
-// broken as the next batch, and so on while patches find such bonds.  Then
+// ruptures since that equilibrium are relaxed with the rest held (a patch
+// solve, relax_patch); bonds whose force in that patch field exceeds
+// (1 + margin) times their threshold are broken as the next batch, and so on while patches find such bonds.  Then
 // one global solve restores equilibrium, and the step goes on only from the
 // bonds critical in that global field.
 //
@@ -43,6 +43,14 @@ class LocalRelaxation : public Relaxation {
   /// Bonds whose force in the current (patch) field exceeds the certified
   /// level, in the order of CriticalBonds::find.  Collective.
   std::vector<Rupture> certain(const std::vector<Rupture>& critical) const;
+  /// Patch solves after `batch`, breaking the bonds they certify; returns
+  /// whether the faces are still joined.  `patch_tensions` gets the last
+  /// patch field when it certified nothing (the one the global solve checks).
+  bool local_phase(std::int64_t step, double strain, std::vector<Rupture> batch,
+                   RelaxationOutcome& out, std::vector<double>& patch_tensions);
+  /// Record the patch error against the global field; give patches up
+  /// once it exceeds the margin.  Collective.
+  void check_patch_error(std::int64_t step, const std::vector<double>& patch_tensions);
   /// Largest |T_global - T_patch| / max(f, mean f) over reported bonds.  Collective.
   double patch_error(const std::vector<double>& patch_tensions,
                      const std::vector<double>& global_tensions) const;
@@ -51,7 +59,6 @@ class LocalRelaxation : public Relaxation {
   CellGrid grid_;      // cells at least the patch radius wide
   std::vector<std::vector<int>> cells_;  // owned nodes by cell
   std::int64_t free_nodes_ = 0;  // global count of owned nodes with a free dof
-  double mean_threshold_ = 0;    // of the positive thresholds
 };
 
 }  // namespace lem

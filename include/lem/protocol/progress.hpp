@@ -40,17 +40,16 @@ class TimeLeftEstimate {
 
 class ProgressReporter {
  public:
-  ProgressReporter(const FractureOptions& options, double mean_bond_length, double height);
+  explicit ProgressReporter(const FractureOptions& options) : options_(options) {}
 
   /// One line per load step with ruptures, otherwise at most one per 10 s.
-  void step_done(std::int64_t step, double stress, std::int64_t new_breaks, int cycles,
-                 const FractureTally& tally, double elapsed);
+  void step_done(std::int64_t step, double strain, double stress, std::int64_t new_breaks,
+                 int cycles, const FractureTally& tally, double elapsed);
   /// During a long avalanche: a line at most every 10 s.
   void relaxing(std::int64_t step, int cycles, std::int64_t new_breaks, double elapsed);
 
  private:
   const FractureOptions& options_;
-  double mean_bond_length_, height_;
   double last_line_ = 0;  // MPI_Wtime of the last line
   TimeLeftEstimate estimate_;
 };

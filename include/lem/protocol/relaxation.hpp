@@ -58,6 +58,8 @@ class Relaxation {
   /// joins the faces.  Collective.
   bool break_batch(const std::vector<Rupture>& batch, std::int64_t step, int cycle,
                    double strain);
+  /// Count a broken batch in `out` (one more cycle) and report progress.
+  void note_batch(std::int64_t step, const std::vector<Rupture>& batch, RelaxationOutcome& out);
   /// options.stop_within_step and the stress has fallen below the stop level.
   bool stress_fell(double stress_before) const;
 

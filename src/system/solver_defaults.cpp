@@ -1,0 +1,137 @@
+// Solver options and defaults of the elastic system: -lattice_ground_stiffness,
+// the CG + GAMG defaults set on the objects, and the patch solver's KSP.
+#include "solver_defaults.hpp"
+
+#include "lem/elastic_system.hpp"
+#include "lem/error.hpp"
+#include "lem/options.hpp"
+
+#include <string>
+
+namespace lem {
+namespace {
+
+// Solver defaults measured on this problem (docs/performance.md).  They are
+// set on the objects before KSPSetFromOptions, so any -ksp_*/-pc_*/-mg_*
+// option overrides them; this table only documents them (-help, provenance)
+// and must follow apply_solver_defaults() and default_no_inodes().
+struct SolverDefault {
+  const char *name, *value, *help;
+};
+const SolverDefault kSolverDefaults[] = {
+    {"-ksp_type", "cg", "Krylov method (K is symmetric positive definite)"},
+    {"-ksp_rtol", "1e-8", "Relative tolerance on the residual norm"},
+    {"-pc_type", "gamg", "Preconditioner: algebraic multigrid with the rigid-body modes as near "
+                         "null space"},
+    {"-pc_gamg_agg_nsmooths", "0", "Plain aggregation (no smoothing of the prolongator)"},
+    {"-pc_gamg_coarse_eq_limit", "1000", "Rows of the coarsest grid"},
+    {"-pc_mg_cycle_type", "w", "Multigrid cycle"},
+    {"-mg_levels_ksp_max_it", "1", "Chebyshev sweeps per level (with the coarse grid limit: "
+                                    "30-40 % less solve time than GAMG's defaults at 1.4e6 "
+                                    "bonds)"},
+    {"-mat_no_inode", "true", "No inode kernels for the AIJ matrix"},
+};
+
+bool option_given(const char* name) {
+  PetscBool set = PETSC_FALSE;
+  LEM_PETSC(PetscOptionsHasName(nullptr, nullptr, name, &set));
+  return set == PETSC_TRUE;
+}
+
+// GAMG creates its levels when the preconditioner is set up and only then
+// reads -pc_mg_cycle_type and -mg_levels_ksp_max_it (PCMGSetCycleType needs
+// the levels): apply the defaults to the levels before every solve, after
+// KSPSetUp has (re)built them, unless an option sets them.
+PetscErrorCode multigrid_level_defaults(KSP ksp, Vec, Vec, void*) {
+  PetscFunctionBeginUser;
+  PC pc;
+  PetscCall(KSPGetPC(ksp, &pc));
+  PetscBool mg = PETSC_FALSE;
+  // ML and HMG are built on PCMG: the level defaults reach them too.
+  PetscCall(PetscObjectTypeCompareAny(reinterpret_cast<PetscObject>(pc), &mg, PCGAMG, PCMG, PCML,
+                                      PCHMG, ""));
+  PetscInt levels = 0;
+  if (mg) PetscCall(PCMGGetLevels(pc, &levels));
+  if (levels > 0) {
+    PetscBool set = PETSC_FALSE;
+    PetscCall(PetscOptionsHasName(nullptr, nullptr, "-pc_mg_cycle_type", &set));
+    if (!set) PetscCall(PCMGSetCycleType(pc, PC_MG_CYCLE_W));
+    PetscCall(PetscOptionsHasName(nullptr, nullptr, "-mg_levels_ksp_max_it", &set));
+    if (!set) PetscCall(PCMGSetNumberSmooth(pc, 1));
+  }
+  PetscFunctionReturn(0);
+}
+
+}  // namespace
+
+void apply_solver_defaults(KSP ksp) {
+  LEM_PETSC(KSPSetType(ksp, KSPCG));
+  LEM_PETSC(KSPSetTolerances(ksp, 1e-8, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT));
+  PC pc;
+  LEM_PETSC(KSPGetPC(ksp, &pc));
+  LEM_PETSC(PCSetType(pc, PCGAMG));
+  LEM_PETSC(PCGAMGSetNSmooths(pc, 0));
+  LEM_PETSC(PCGAMGSetCoarseEqLim(pc, 1000));
+  LEM_PETSC(KSPSetPreSolve(ksp, multigrid_level_defaults, nullptr));
+}
+
+// -mat_no_inode must also reach the matrices that GAMG creates inside
+// (coarse operators, prolongators), which only the options database does:
+// the one default still put there, unless the option was given.
+void default_no_inodes() {
+  if (option_given("-mat_no_inode")) return;
+  LEM_PETSC(PetscOptionsSetValue(nullptr, "-mat_no_inode", "true"));
+  option_given("-mat_no_inode");  // mark it used: BAIJ ignores it, which is no typo
+}
+
+SolverOptions read_solver_options(MPI_Comm comm) {
+  SolverOptions o;
+  {
+    OptionGroup g(comm, "Elastic system");
+    o.ground_stiffness =
+        g.real("-lattice_ground_stiffness", "Weak spring tying every free degree of freedom "
+               "to its rest position, relative to the mean nodal stiffness.  Phase "
+               "patterns and ruptures leave hinged clusters (mechanisms) that make K "
+               "singular and the multigrid preconditioner indefinite; 1e-10 removes them "
+               "and changes E_eff by < 1e-6 relative (docs/cemented-samples.md); 0 "
+               "disables", o.ground_stiffness, 0.0, 1e-3);
+  }
+  OptionGroup g(comm, "Linear solver (defaults set on PETSc's objects; any -ksp_*, -pc_*, "
+                      "-mg_* or -mat_* option overrides them)");
+  for (const SolverDefault& d : kSolverDefaults) g.petsc_default(d.name, d.help, d.value);
+  // Misspelt types fail here, before any work, rather than in KSPSetFromOptions.
+  LEM_PETSC(KSPInitializePackage());
+  LEM_PETSC(PCInitializePackage());
+  for (const char* prefix : {"-", "-fallback_", "-mg_levels_", "-mg_coarse_"}) {
+    check_type_option((std::string(prefix) + "ksp_type").c_str(), KSPList, "KSP");
+    check_type_option((std::string(prefix) + "pc_type").c_str(), PCList, "PC");
+  }
+  // (-mat_type is left to MatSetFromOptions: "aij", "baij" are root names
+  // outside MatList.)
+  PetscBool help = PETSC_FALSE;
+  LEM_PETSC(PetscOptionsHasHelp(nullptr, &help));
+  if (help) {  // let PETSc list its KSP and PC options, with our defaults as current values
+    KSP ksp;
+    LEM_PETSC(KSPCreate(comm, &ksp));
+    apply_solver_defaults(ksp);
+    const PetscErrorCode ierr = KSPSetFromOptions(ksp);
+    KSPDestroy(&ksp);
+    LEM_PETSC(ierr);
+  }
+  return o;
+}
+
+KSP create_patch_solver(MPI_Comm comm, double rtol) {
+  KSP ksp = nullptr;
+  LEM_PETSC(KSPCreate(comm, &ksp));
+  LEM_PETSC(KSPSetOptionsPrefix(ksp, "patch_"));
+  LEM_PETSC(KSPSetType(ksp, KSPCG));
+  PC pc = nullptr;
+  LEM_PETSC(KSPGetPC(ksp, &pc));
+  LEM_PETSC(PCSetType(pc, PCJACOBI));
+  LEM_PETSC(KSPSetTolerances(ksp, rtol, PETSC_DEFAULT, PETSC_DEFAULT, 5000));
+  LEM_PETSC(KSPSetFromOptions(ksp));
+  return ksp;
+}
+
+}  // namespace lem
