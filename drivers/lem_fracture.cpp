@@ -235,6 +235,7 @@ int main(int argc, char** argv) {
     s.add("rupture_steps", static_cast<long long>(r.rupture_steps));
     s.add("relaxation_cycles", static_cast<long long>(r.relaxation_cycles));
     s.add("solves", static_cast<long long>(r.solves));
+    s.add("early_stops", static_cast<long long>(r.early_stops));
     s.add("ksp_iterations", static_cast<long long>(r.iterations));
     s.add("pc_builds", static_cast<long long>(r.preconditioner_builds));
     s.add("fallback_solves", static_cast<long long>(r.fallback_solves));

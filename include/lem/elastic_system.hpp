@@ -15,6 +15,7 @@
 
 #include <petscksp.h>
 
+#include <functional>
 #include <vector>
 
 namespace lem {
@@ -27,6 +28,16 @@ struct SolveReport {
   double solve_seconds = 0;  // KSPSolve
   bool preconditioner_built = false;  // this solve (re)built the preconditioner
   bool used_fallback = false;  // multigrid failed twice; CG + Jacobi (-fallback_*) solved
+  bool stopped_early = false;  // an EarlyStop test ended the solve before -ksp_rtol
+};
+
+/// A test that may end a CG solve before -ksp_rtol: every `interval`
+/// iterations the system makes the iterate current (ghosts included) and
+/// calls `decided()`, which may read bond_tensions(); true ends the solve.
+/// Collective: every rank must return the same answer.
+struct EarlyStop {
+  int interval = 4;
+  std::function<bool()> decided;
 };
 
 /// Macroscopic response to a top displacement (paper sect. 2.3).
@@ -76,7 +87,10 @@ class ElasticSystem {
 
   /// Solve for a top displacement.  The previous solution (scaled to the new
   /// load) is the initial guess.  Throws NumericalError if KSP diverges.
-  SolveReport solve(double top_displacement);
+  /// With `early` (CG only), the solve may end before -ksp_rtol when the
+  /// test says so; the state is then no equilibrium (rescale() refuses it)
+  /// until the next full solve.
+  SolveReport solve(double top_displacement, const EarlyStop* early = nullptr);
 
   /// Keep the current preconditioner for later solves even when K changes
   /// (it is built anyway by the first solve).  rebuild_preconditioner() makes
@@ -127,7 +141,7 @@ class ElasticSystem {
   void add_bond_block(int bond, double k_change);
   void assemble_rhs(double top_displacement);
   void update_ghosts() const;
-  SolveReport attempt_solve();
+  SolveReport attempt_solve(const EarlyStop* early);
   void create_fallback();
   SolveReport fallback_solve();
   Point local_displacement(const PetscScalar* u_local, int node) const;
@@ -143,6 +157,7 @@ class ElasticSystem {
   double ground_ = 0.0;  // diagonal added on free dofs (-lattice_ground_stiffness)
   double current_displacement_ = 0.0;
   bool operator_changed_ = true;
+  bool equilibrium_ = false;  // u_ solves K u = b to -ksp_rtol (not stopped early)
   bool reuse_pc_ = false;  // keep the preconditioner when K changes
   bool pc_stale_ = false;  // the next solve must build a fresh preconditioner
   bool pc_ready_ = false;  // a preconditioner has been built

@@ -72,6 +72,25 @@ std::vector<Rupture> CriticalBonds::find(const std::vector<double>& tension) con
   return all;
 }
 
+bool CriticalBonds::decided(const std::vector<double>& tension,
+                            const std::vector<double>& earlier, double safety) const {
+  const DistributedLattice& l = lattice_;
+  std::int64_t counts[2] = {0, 0}, totals[2];  // certainly critical, undecided
+  for (int b = 0; b < l.local_bonds(); ++b) {
+    if (!l.bond_reported[b] || l.bond_stiffness[b] <= 0) continue;
+    const double t = tension[b];
+    const double error = safety * std::abs(t - earlier[b]);
+    const double level = std::max(l.bond_strength[b], force_floor_);
+    if (!std::isfinite(t) || std::abs(t - level) <= error) {
+      counts[1] += 1;  // a non-finite force is left to the full solve (find() names it)
+      break;
+    }
+    if (t > level) counts[0] += 1;
+  }
+  MPI_Allreduce(counts, totals, 2, MPI_INT64_T, MPI_SUM, l.comm);
+  return rule_ == BreakRule::all && totals[0] > 0 && totals[1] == 0;
+}
+
 std::int64_t CriticalBonds::next_step(const std::vector<double>& tension, std::int64_t step,
                                       std::int64_t max_steps) const {
   const DistributedLattice& l = lattice_;

@@ -111,6 +111,9 @@ std::string fracture_fingerprint(const DistributedLattice& l, const FractureOpti
   if (o.relaxation == RelaxationScheme::local)
     s << "\npatch_radius=" << o.patch_radius << "\npatch_margin=" << o.patch_margin
       << "\npatch_max_fraction=" << o.patch_max_fraction << "\npatch_rtol=" << o.patch_rtol;
+  if (o.decision_safety > 0)
+    s << "\ndecision_safety=" << o.decision_safety
+      << "\ndecision_interval=" << o.decision_interval;
   s << "\n";
   // Solver options are left out on purpose: a run stopped by a failed solve
   // may be resumed with others (then equal to the tolerance, not bitwise).

@@ -66,6 +66,16 @@ FractureOptions read_fracture_options(MPI_Comm comm) {
                                   o.patch_max_fraction, 0.0, 1.0, true);
     o.patch_rtol = g.real("-fracture_patch_rtol", "local: relative tolerance of the patch "
                           "solves (CG, options prefix -patch_)", o.patch_rtol, 0.0, 0.1, true);
+    o.decision_safety = g.real(
+        "-fracture_decision_safety", "End a relaxation solve (CG) before -ksp_rtol as soon as "
+        "it decides the next batch: one bond force is above its threshold and every one is "
+        "farther from it than this many times its change over the last "
+        "-fracture_decision_interval iterations.  The last solve of every load step still "
+        "goes to -ksp_rtol.  0: every solve to -ksp_rtol (the reference)",
+        o.decision_safety, 0.0, 1e6);
+    o.decision_interval = static_cast<int>(g.integer(
+        "-fracture_decision_interval", "CG iterations between two decision checks (each "
+        "computes every bond force, about one matrix product)", o.decision_interval, 1, 1000));
   }
   {
     OptionGroup g(comm, "Threshold disorder (seeded; the same on any rank count)");

@@ -29,16 +29,19 @@ PreconditionerPolicy::PreconditionerPolicy(ElasticSystem& system, DamageLedger& 
                                            FractureTally& tally)
     : system_(system), ledger_(ledger), rule_(rule), state_(state), tally_(tally) {}
 
-SolveReport PreconditionerPolicy::solve(double top_displacement, bool relaxation) {
-  const SolveReport report = system_.solve(top_displacement);
+SolveReport PreconditionerPolicy::solve(double top_displacement, bool relaxation,
+                                        const EarlyStop* early) {
+  const SolveReport report = system_.solve(top_displacement, early);
   tally_.solves += 1;
+  tally_.early_stops += report.stopped_early;
   tally_.iterations += report.iterations;
   tally_.fallback_solves += report.used_fallback;
   if (report.preconditioner_built) {
     tally_.preconditioner_builds += 1;
     ledger_.record_build();
   }
-  if (rule_.after_solve(state_, report.iterations, report.preconditioner_built, relaxation))
+  if (rule_.after_solve(state_, report.iterations, report.preconditioner_built,
+                        relaxation && !report.stopped_early))
     system_.rebuild_preconditioner();
   return report;
 }

@@ -197,7 +197,7 @@ void ElasticSystem::assemble_rhs(double top_displacement) {
   LEM_PETSC(VecRestoreArray(b_, &rhs));
 }
 
-SolveReport ElasticSystem::solve(double top_displacement) {
+SolveReport ElasticSystem::solve(double top_displacement, const EarlyStop* early) {
   assemble_rhs(top_displacement);
 
   // Initial guess: the previous solution scaled to the new load, or the
@@ -226,14 +226,14 @@ SolveReport ElasticSystem::solve(double top_displacement) {
   // from the same initial guess before giving up.
   if (!u_start_) LEM_PETSC(VecDuplicate(u_, u_start_.replace()));
   LEM_PETSC(VecCopy(u_, u_start_));
-  SolveReport report = attempt_solve();
+  SolveReport report = attempt_solve(early);
   bool built = report.preconditioner_built;  // by any attempt (restart replays it)
   int failed_iterations = 0;
   if (report.reason < 0 && !report.preconditioner_built) {
     LEM_PETSC(VecCopy(u_start_, u_));
     failed_iterations += report.iterations;
     pc_stale_ = true;
-    report = attempt_solve();
+    report = attempt_solve(early);
     built = true;
   }
   if (report.reason < 0) {
@@ -259,11 +259,50 @@ SolveReport ElasticSystem::solve(double top_displacement) {
   }
   current_displacement_ = top_displacement;
   operator_changed_ = false;
+  equilibrium_ = !report.stopped_early;
   update_ghosts();
   return report;
 }
 
-SolveReport ElasticSystem::attempt_solve() {
+namespace {
+// KSP's default test, then the caller's EarlyStop every `interval`
+// iterations.  The iterate of CG is the solution vector itself, updated in
+// place, so the test sees it after a ghost update.  Exceptions cannot cross
+// PETSc's C frames: they are kept and rethrown after KSPSolve.
+struct EarlyStopContext {
+  void* default_context = nullptr;
+  const EarlyStop* early = nullptr;
+  std::function<void()> make_current;
+  bool stopped = false;
+  std::exception_ptr error;
+};
+
+PetscErrorCode early_stop_test(KSP ksp, PetscInt it, PetscReal rnorm,
+                               KSPConvergedReason* reason, void* ctx) {
+  PetscFunctionBeginUser;
+  auto* c = static_cast<EarlyStopContext*>(ctx);
+  PetscCall(KSPConvergedDefault(ksp, it, rnorm, reason, c->default_context));
+  if (*reason != KSP_CONVERGED_ITERATING || it == 0 || it % c->early->interval != 0)
+    PetscFunctionReturn(0);
+  try {
+    c->make_current();
+    if (c->early->decided()) {
+      c->stopped = true;
+      *reason = KSP_CONVERGED_ITS;
+    }
+  } catch (...) {
+    c->error = std::current_exception();
+    *reason = KSP_DIVERGED_BREAKDOWN;
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode destroy_default_context(void* ctx) {
+  return KSPConvergedDefaultDestroy(ctx);
+}
+}  // namespace
+
+SolveReport ElasticSystem::attempt_solve(const EarlyStop* early) {
   const Stages& stages = log_stages();
   SolveReport report;
   double t0 = MPI_Wtime();
@@ -278,7 +317,27 @@ SolveReport ElasticSystem::attempt_solve() {
   report.setup_seconds = MPI_Wtime() - t0;
   t0 = MPI_Wtime();
   LogStageScope solve_stage(stages.solve);
-  LEM_PETSC(KSPSolve(ksp_, b_, u_));
+  PetscBool cg = PETSC_FALSE;
+  LEM_PETSC(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(ksp_.get()), KSPCG, &cg));
+  EarlyStopContext context;
+  if (early && cg) {
+    // Installed for this solve only (KSPSetConvergenceTest destroys the
+    // previous context), then the plain default test again.
+    LEM_PETSC(KSPConvergedDefaultCreate(&context.default_context));
+    context.early = early;
+    context.make_current = [this] { update_ghosts(); };
+    LEM_PETSC(KSPSetConvergenceTest(ksp_, early_stop_test, &context, nullptr));
+  }
+  const PetscErrorCode solved = KSPSolve(ksp_, b_, u_);
+  if (context.early) {
+    void* plain = nullptr;
+    LEM_PETSC(KSPConvergedDefaultCreate(&plain));
+    LEM_PETSC(KSPSetConvergenceTest(ksp_, KSPConvergedDefault, plain, destroy_default_context));
+    LEM_PETSC(KSPConvergedDefaultDestroy(context.default_context));
+  }
+  if (context.error) std::rethrow_exception(context.error);
+  LEM_PETSC(solved);
+  report.stopped_early = context.stopped;
   solve_stage.pop();
   report.solve_seconds = MPI_Wtime() - t0;
   PetscInt its = 0;
@@ -341,9 +400,9 @@ void ElasticSystem::build_preconditioner() {
 }
 
 void ElasticSystem::rescale(double top_displacement) {
-  if (operator_changed_ || current_displacement_ == 0.0)
-    throw std::logic_error("ElasticSystem::rescale: K changed (or nothing solved) since the "
-                           "last solve");
+  if (operator_changed_ || current_displacement_ == 0.0 || !equilibrium_)
+    throw std::logic_error("ElasticSystem::rescale: K changed (or nothing solved to "
+                           "-ksp_rtol) since the last solve");
   LEM_PETSC(VecScale(u_, top_displacement / current_displacement_));
   // Prescribed values exactly (the scaled ones may differ in the last bit).
   PetscScalar* u = nullptr;
@@ -386,6 +445,7 @@ void ElasticSystem::set_state(const std::vector<double>& owned_values, double to
   LEM_PETSC(VecRestoreArray(u_, &u));
   current_displacement_ = top_displacement;
   operator_changed_ = false;  // the caller restores a solution of the current K
+  equilibrium_ = true;
   update_ghosts();
 }
 

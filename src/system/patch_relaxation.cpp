@@ -47,6 +47,7 @@ SolveReport ElasticSystem::relax_patch(const std::vector<int>& owned_nodes, doub
     LEM_PETSC(VecAXPY(u_patch, 1.0, du));
     LEM_PETSC(VecRestoreSubVector(u_, is, &u_patch));
     update_ghosts();
+    equilibrium_ = false;
   }
   LEM_PETSC(KSPDestroy(&ksp));
   LEM_PETSC(VecDestroy(&du));

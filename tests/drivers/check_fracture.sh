@@ -14,6 +14,7 @@
 #   most_critical   the other break rule: one bond per cycle, rank-independent
 #   solver_failure  a solve that fails for good writes the last equilibrium
 #                   as a checkpoint and exits 2; the rerun resumes from it
+#   (with LEM_CASE_ARGS set, every run gets those options too)
 #   node_stress     shipped tiny sample: the node stresses of elastic.h5 (eq. 1)
 #                   average to the applied stress, agree on 1 and 2 ranks, and
 #                   tools/plot_stress.py draws them and fits the tail exponent
@@ -21,8 +22,11 @@ set -u
 mode="$1"; prog="$2"; work="$3"; shift 3
 mpi=("$@")
 py=/usr/bin/python3
+# LEM_CASE_ARGS (environment) adds options to every run: the same checks
+# with another relaxation (tests/CMakeLists.txt).
+# shellcheck disable=SC2206
 case_args=(-lattice_bonds 6000 -lattice_seed 3 -strength_disorder uniform
-           -fracture_stop_fraction 0.3 -output_fields false)
+           -fracture_stop_fraction 0.3 -output_fields false ${LEM_CASE_ARGS:-})
 fail() { echo "FAIL: $*"; exit 1; }
 run() {  # run RANKS DIR [extra args]: the driver, output in DIR/log
   local n="$1" dir="$2"; shift 2

@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 using namespace lem;
 
@@ -95,6 +96,91 @@ TEST_F(FractureParts, FccCriticalBondsAreTheInclinedOnes) {
   system.solve(1e-4 * height);
   EXPECT_EQ(all.next_step(system.bond_tensions(), 1, 1000), 32);
   EXPECT_EQ(all.next_step(system.bond_tensions(), 1, 20), 21);  // capped at max + 1
+}
+
+// A batch is decided when some bond is critical beyond its error and none
+// lies within its error of its threshold: the inclined FCC bonds at 1.03
+// times their threshold, with errors (safety times the change since the
+// earlier iterate) below and above the 3 % margin.
+TEST_F(FractureParts, DecidedBatchNeedsEveryBondOutsideItsError) {
+  const double k = 1.0, a = 1.0, eps_b = 1.05e-3;
+  DistributedLattice l = make_problem([&] { return make_fcc_lattice({4, 4, 4}, a, k); });
+  l.bond_strength.resize(l.bond_stiffness.size());
+  for (int b = 0; b < l.local_bonds(); ++b) l.bond_strength[b] = l.bond_stiffness[b] * a * eps_b;
+  ElasticSystem system(l, exact);
+  system.assemble();
+  CriticalBonds all(l, BreakRule::all), one(l, BreakRule::most_critical);
+  const double height = l.box.length(2);
+  system.solve(1.03 * 3 * eps_b * height);
+  const std::vector<double> t = system.bond_tensions();
+  auto shifted = [&](double fraction) {  // earlier iterate: every force off by fraction f
+    std::vector<double> e = t;
+    for (int b = 0; b < l.local_bonds(); ++b) e[b] -= fraction * l.bond_strength[b];
+    return e;
+  };
+  EXPECT_TRUE(all.decided(t, shifted(0.01), 2.0));    // error 2 % < margin 3 %
+  EXPECT_FALSE(all.decided(t, shifted(0.02), 2.0));   // error 4 % > margin
+  EXPECT_FALSE(one.decided(t, t, 1.0));               // only the rule "all" stops early
+  system.solve(0.97 * 3 * eps_b * height);
+  EXPECT_FALSE(all.decided(system.bond_tensions(), system.bond_tensions(), 1.0));  // none critical
+
+}
+
+// A solve that stops once the batch is decided (from the affine initial
+// guess, so CG has work to do) breaks the bonds the converged field breaks,
+// in fewer iterations; its state is no equilibrium until a full solve.
+TEST_F(FractureParts, SolveStoppedOnceDecidedGivesTheConvergedBatch) {
+  auto build = [] { return random_lattice(3000, 5); };
+  DistributedLattice l = make_problem(build);
+  const double top = 1e-3 * l.box.length(2);
+  std::vector<double> converged_tension;
+  {
+    ElasticSystem reference(l, exact);
+    reference.assemble();
+    reference.solve(top);
+    converged_tension = reference.bond_tensions();
+  }
+  // Thresholds: one level for all bonds, in the middle of the widest gap
+  // between the 30 largest converged tensions, so a few bonds are critical
+  // with a clear margin.
+  std::vector<double> mine;
+  for (int b = 0; b < l.local_bonds(); ++b)
+    if (l.bond_reported[b]) mine.push_back(converged_tension[b]);
+  std::vector<double> largest = allgather(l.comm, mine);
+  std::sort(largest.rbegin(), largest.rend());
+  largest.resize(30);
+  std::size_t gap = 1;
+  for (std::size_t i = 1; i + 1 < largest.size(); ++i)
+    if (largest[i] - largest[i + 1] > largest[gap] - largest[gap + 1]) gap = i;
+  const double level = 0.5 * (largest[gap] + largest[gap + 1]);
+  l.bond_strength.assign(l.bond_stiffness.size(), level);
+  CriticalBonds all(l, BreakRule::all);
+  const auto converged = all.find(converged_tension);
+  ASSERT_EQ(converged.size(), gap + 1);
+
+  ElasticSystem system(l, exact);
+  system.assemble();
+  std::vector<double> earlier;
+  EarlyStop early;
+  early.interval = 2;
+  early.decided = [&] {
+    std::vector<double> now = system.bond_tensions();
+    const bool done = !earlier.empty() && all.decided(now, earlier, 1.0);
+    earlier = std::move(now);
+    return done;
+  };
+  const SolveReport stopped = system.solve(top, &early);
+  EXPECT_TRUE(stopped.stopped_early);
+  const auto batch = all.find(system.bond_tensions());
+  ASSERT_EQ(batch.size(), converged.size());
+  for (std::size_t i = 0; i < batch.size(); ++i) EXPECT_EQ(batch[i].id, converged[i].id);
+  EXPECT_THROW(system.rescale(top), std::logic_error);  // not an equilibrium
+  const SolveReport rest = system.solve(top);
+  EXPECT_FALSE(rest.stopped_early);
+  EXPECT_GT(rest.iterations, 0);
+  EXPECT_NO_THROW(system.rescale(top));
+  std::printf("decided after %d CG iterations; %d more to -ksp_rtol\n", stopped.iterations,
+              rest.iterations);
 }
 
 // Replaying a recorded history on the intact system gives the same

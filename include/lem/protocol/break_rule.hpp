@@ -42,6 +42,14 @@ class CriticalBonds {
   /// throws NumericalError naming a bond with a non-finite force.
   std::vector<Rupture> find(const std::vector<double>& tensions) const;
 
+  /// Whether an unfinished solve already decides the next batch: with the
+  /// error of each force estimated as `safety` times its change since the
+  /// `earlier` iterate, at least one bond is critical beyond its error and
+  /// no bond is within its error of its threshold (so the critical set of
+  /// the current field is the one of the converged field).  Collective.
+  bool decided(const std::vector<double>& tensions, const std::vector<double>& earlier,
+               double safety) const;
+
   /// First load step after `step` at which a bond becomes critical if the
   /// field is scaled from `step` (at most max_steps + 1).  Collective.
   std::int64_t next_step(const std::vector<double>& tensions, std::int64_t step,

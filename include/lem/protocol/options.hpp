@@ -37,6 +37,11 @@ struct FractureOptions {
   double patch_margin = 0.05;        // local: a patch field breaks a bond only above (1 + margin) f
   double patch_max_fraction = 0.2;   // local: larger patches are solved globally
   double patch_rtol = 1e-6;          // local: patch solves to this fraction of their residual
+  // Relaxation solves end as soon as they decide the next batch (the error
+  // of a force taken as decision_safety times its change over the last
+  // decision_interval CG iterations); 0: every solve to -ksp_rtol.
+  double decision_safety = 0;
+  int decision_interval = 4;
   std::int64_t rebuild_after_ruptures = 2000;  // 0: never by count
   double rebuild_iteration_growth = 2.5;       // 0: never by iterations
   // Threshold disorder: f *= factor(seed, bond id) for the phases listed.

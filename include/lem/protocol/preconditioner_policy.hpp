@@ -25,8 +25,9 @@ class PreconditionerPolicy {
  public:
   PreconditionerPolicy(ElasticSystem& system, DamageLedger& ledger, RebuildRule rule,
                        PreconditionerState& state, FractureTally& tally);
-  /// Solve for the top displacement, count it, apply the rule.
-  SolveReport solve(double top_displacement, bool relaxation);
+  /// Solve for the top displacement, count it, apply the rule.  A solve
+  /// that `early` ends before -ksp_rtol does not enter the iteration rule.
+  SolveReport solve(double top_displacement, bool relaxation, const EarlyStop* early = nullptr);
   void note_ruptures(std::int64_t ruptures);
 
  private:

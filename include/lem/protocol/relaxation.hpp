@@ -60,6 +60,10 @@ class Relaxation {
                    double strain);
   /// Count a broken batch in `out` (one more cycle) and report progress.
   void note_batch(std::int64_t step, const std::vector<Rupture>& batch, RelaxationOutcome& out);
+  /// A relaxation solve after a batch; with options.decision_safety > 0 it
+  /// may end as soon as the next batch is decided (CriticalBonds::decided).
+  /// A solve that leaves no bond critical has gone to -ksp_rtol.  Collective.
+  SolveReport solve_for_decision(double top_displacement);
   /// options.stop_within_step and the stress has fallen below the stop level.
   bool stress_fell(double stress_before) const;
 

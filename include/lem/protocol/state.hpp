@@ -22,6 +22,7 @@ struct FractureTally {
   std::int64_t fallback_solves = 0;  // multigrid failed, Jacobi-CG solved (ElasticSystem)
   std::int64_t rupture_steps = 0;  // steps with at least one rupture
   std::int64_t relaxation_cycles = 0;
+  std::int64_t early_stops = 0;    // relaxation solves ended once the batch was decided
   // Local relaxation: patch solves, their CG iterations and total free
   // nodes, patches too large that went global, and the largest force error
   // of a patch field against the global field that confirmed it (relative
