@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <sstream>
 
 static const char help[] =
     "Quasi-static uniaxial tension to complete failure of an elastic-brittle spring lattice\n"
@@ -83,6 +84,54 @@ Case run_case(Prepared p, const lem::SolverOptions& solver, lem::FractureOptions
   return c;
 }
 
+// A checkpoint that the protocol will resume from (rank 0 decides).
+bool resumable(MPI_Comm comm, const lem::FractureOptions& options) {
+  int found = 0;
+  lem::run_on_root(comm, [&] {
+    found = options.resume && std::filesystem::exists(lem::checkpoint_path(options.output_dir));
+  });
+  MPI_Bcast(&found, 1, MPI_INT, 0, comm);
+  return found != 0;
+}
+
+// What the result of this run depends on, recorded in its manifest: the
+// checkpoint's fingerprint (sample, thresholds, protocol options), where the
+// run ends, and how it is normalised and written.
+std::string result_fingerprint(const lem::DistributedLattice& lattice,
+                               const lem::FractureOptions& o, bool calibrating, double sigma_unit,
+                               double modulus_unit, bool fields) {
+  std::ostringstream s;
+  s.precision(17);
+  s << lem::fracture_fingerprint(lattice, o) << "stop_fraction=" << o.stop_fraction
+    << "\nmax_strain_ratio=" << o.max_strain_ratio << "\nmax_steps=" << o.max_steps
+    << "\ncalibrate=" << calibrating << "\nsigma_unit=" << sigma_unit
+    << "\nmodulus_unit=" << modulus_unit << "\nfields=" << fields
+    << "\nsnapshot_steps=" << o.snapshot_steps << "\n";
+  return s.str();
+}
+
+// Rank 0 of a locked output directory: true if it holds the finished result
+// of this very run (then there is nothing to do); InputError if it holds
+// another one and -output_overwrite was not given.
+bool already_finished(const std::string& dir, const std::string& fingerprint, bool overwrite) {
+  const auto manifest = lem::read_manifest(dir);
+  if (!manifest || overwrite) return false;
+  int other_ranks = 0;
+  std::string differs =
+      lem::fingerprint_differences(manifest->fingerprint, fingerprint, other_ranks, "finished");
+  if (manifest->program != "lem_fracture") differs = "\n  written by " + manifest->program;
+  if (!differs.empty())
+    throw lem::InputError("output directory '" + dir + "' holds the finished result of "
+                          "another run:" + differs + "\npass -output_overwrite to replace it, "
+                          "or choose another -output_dir");
+  const std::string changed = lem::manifest_mismatch(dir, *manifest);
+  if (!changed.empty())
+    throw lem::InputError("output directory '" + dir + "' holds a finished result changed "
+                          "since it was written:" + changed + "\npass -output_overwrite to "
+                          "compute it again");
+  return true;
+}
+
 // sigma^[p] and E^[p]: from the calibration file of this lattice if there is
 // one, else by breaking the homogeneous lattice (and stored for next time).
 lem::Calibration calibrate(MPI_Comm comm, const lem::SampleOptions& sample,
@@ -108,22 +157,21 @@ lem::Calibration calibrate(MPI_Comm comm, const lem::SampleOptions& sample,
   if (!chosen)
     path = std::filesystem::path(sample.sample_file).replace_extension().string() +
            ".calibration-" + lem::calibration_key(fingerprint) + ".txt";
-  if (chosen)  // before a calibration that could not be stored
-    lem::run_on_root(comm, [&] {
-      const auto folder = std::filesystem::path(path).parent_path();
-      if (!folder.empty() && !std::filesystem::is_directory(folder))
-        throw lem::InputError("option -fracture_calibration_file: the folder of '" + path +
-                              "' does not exist");
-    });
   if (const auto stored = lem::read_calibration(comm, path, fingerprint)) {
     lem::say("calibration: sigma^[p] = %.6g, E^[p] = %.6g (E^phase units) from %s\n",
              stored->sigma_hom, stored->e_hom, path.c_str());
     return *stored;
   }
-  lem::prepare_output_dir(comm, hom_options.output_dir, {"curve.csv", "broken.csv"});
+  // A calibration stopped by a signal resumes from its checkpoint, whose
+  // logs may already carry their final names.
+  lem::prepare_output_dir(comm, hom_options.output_dir,
+                          resumable(comm, hom_options) ? std::vector<std::string>{}
+                                                       : std::vector<std::string>{"curve.csv",
+                                                                                  "broken.csv"});
   lem::say("calibration: the homogeneous lattice (every bond E^p = %g, sigma^p = %g)\n",
            sample.phases.modulus[0], sample.phases.strength[0]);
   const Case hom_case = run_case(std::move(p), solver, hom_options, provenance, false);
+  lem::run_on_root(comm, [&] { lem::remove_checkpoint(hom_options.output_dir); });
   lem::Calibration c;
   c.sigma_hom = hom_case.result.peak_stress * hom_case.stress_unit;
   c.e_hom = hom_case.result.young_modulus * hom_case.stress_unit;
@@ -132,7 +180,7 @@ lem::Calibration calibrate(MPI_Comm comm, const lem::SampleOptions& sample,
   try {
     lem::write_calibration(comm, path, fingerprint, c, provenance);
     lem::say("calibration: stored in %s\n", path.c_str());
-  } catch (const lem::InputError& e) {
+  } catch (const lem::IoError& e) {
     if (chosen) throw;
     lem::say("calibration: not stored (%s)\n", e.what());  // e.g. a read-only sample folder
   }
@@ -146,7 +194,7 @@ int main(int argc, char** argv) {
     lem::SampleOptions sample = lem::read_sample_options(comm);
     lem::FractureOptions options = lem::read_fracture_options(comm);
     double break_strain = 1e-3, sigma_unit = 0, modulus_unit = 0;
-    bool calibrate_first = true, fields = true;
+    bool calibrate_first = true, fields = true, overwrite = false;
     std::string calibration_file;
     {
       lem::OptionGroup g(comm, "Fracture run and output");
@@ -168,6 +216,9 @@ int main(int argc, char** argv) {
                             "(E^phase units; e.g. E^[p] from an earlier calibration; 0: "
                             "calibrate or use E^p)", 0.0, 0.0, 1e12);
       options.output_dir = g.string("-output_dir", "Directory of the results", "results/fracture");
+      overwrite = g.flag("-output_overwrite", "Compute the result again even if -output_dir "
+                         "holds a finished one (its manifest.txt); without it a finished run "
+                         "of the same sample and options is left as it is (exit 0)", false);
       fields = g.flag("-output_fields", "Write the final displacements and bond states to "
                       "HDF5/XDMF (fields.h5), and those of the first equilibrium with the node "
                       "stresses of eq. 1 (elastic.h5)", true);
@@ -179,19 +230,52 @@ int main(int argc, char** argv) {
     const lem::SolverOptions solver = lem::read_solver_options(comm);
     lem::check_option_names(comm);
     const bool from_file = !sample.sample_file.empty();
+    const bool calibrating = from_file && calibrate_first && sigma_unit == 0 && modulus_unit == 0;
     const auto provenance = lem::collect_provenance(comm, "lem_fracture");
-    // A run that will resume keeps the first-equilibrium fields written
-    // before its checkpoint (the checkpoint proves they belong to it).
-    std::vector<std::string> stale = {"summary.json", "summary.csv", "curve.csv", "broken.csv",
-                                      "fields.h5", "fields.xmf", "fracture.png", "stress.png",
-                                      "stress.json"};
-    if (!(options.resume && std::filesystem::exists(options.output_dir + "/checkpoint.bin")))
-      stale.insert(stale.end(), {"elastic.h5", "elastic.xmf"});
-    lem::prepare_output_dir(comm, options.output_dir, stale);
+    if (calibrating && !calibration_file.empty())  // before a calibration that could not be stored
+      lem::run_on_root(comm, [&] {
+        const auto folder = std::filesystem::path(calibration_file).parent_path();
+        if (!folder.empty() && !std::filesystem::is_directory(folder))
+          throw lem::InputError("option -fracture_calibration_file: the folder of '" +
+                                calibration_file + "' does not exist");
+      });
+    // The sample is read and checked before -output_dir is touched: bad input
+    // must not cost an earlier result.
+    Prepared prepared = prepare(comm, sample, break_strain, options);
+    const std::string fingerprint = result_fingerprint(prepared.lattice, options, calibrating,
+                                                       sigma_unit, modulus_unit, fields);
+
+    const std::string& dir = options.output_dir;
+    const lem::OutputLock lock(comm, dir);
+    int finished = 0;
+    lem::run_on_root(comm, [&] {
+      finished = already_finished(dir, fingerprint, overwrite);
+      // A run killed between its commit and the checkpoint's removal.
+      if (finished) lem::remove_checkpoint(dir);
+    });
+    MPI_Bcast(&finished, 1, MPI_INT, 0, comm);
+    if (finished) {
+      lem::say("the result in %s/ is complete (manifest.txt): nothing to do; pass "
+               "-output_overwrite to compute it again\n", dir.c_str());
+      return;
+    }
+    // Withdraw the earlier result (manifest first).  A run that will resume
+    // keeps its logs (maybe already renamed by a run killed while committing)
+    // and the first-equilibrium fields written before its checkpoint.
+    int had_result = 0;
+    lem::run_on_root(comm, [&] { had_result = lem::read_manifest(dir).has_value(); });
+    MPI_Bcast(&had_result, 1, MPI_INT, 0, comm);
+    std::vector<std::string> stale = {"summary.json", "summary.csv", "fields.h5", "fields.xmf",
+                                      "fracture.png", "stress.png", "stress.json"};
+    if (had_result)  // -output_overwrite: start over
+      stale.insert(stale.end(), {"checkpoint.bin", "curve.csv.part", "broken.csv.part"});
+    if (!resumable(comm, options) || had_result)
+      stale.insert(stale.end(), {"curve.csv", "broken.csv", "elastic.h5", "elastic.xmf"});
+    lem::run_on_root(comm, [&] { lem::withdraw_results(dir, stale); });
 
     const double e_p = sample.phases.modulus[0], s_p = sample.phases.strength[0];
     double sigma_hom = 0, e_hom = 0;
-    if (from_file && calibrate_first && sigma_unit == 0 && modulus_unit == 0) {
+    if (calibrating) {
       const lem::Calibration c =
           calibrate(comm, sample, solver, break_strain, options, calibration_file, provenance);
       sigma_hom = c.sigma_hom;
@@ -201,8 +285,7 @@ int main(int argc, char** argv) {
                                                       : from_file ? s_p : 1.0;
     options.modulus_unit = modulus_unit > 0 ? modulus_unit : e_hom > 0 ? e_hom
                                                       : from_file ? e_p : 1.0;
-    const Case c =
-        run_case(prepare(comm, sample, break_strain, options), solver, options, provenance, fields);
+    const Case c = run_case(std::move(prepared), solver, options, provenance, fields);
 
     const lem::FractureResult& r = c.result;
     const double e_eff = r.young_modulus * c.stress_unit, s_eff = r.peak_stress * c.stress_unit;
@@ -257,9 +340,8 @@ int main(int argc, char** argv) {
     s.add("end_reason", r.end_reason);
     s.add("resumed", static_cast<long long>(r.resumed));
     s.add("seconds", r.seconds, "s");
-    int ranks = 1, rank = 0;
+    int ranks = 1;
     MPI_Comm_size(comm, &ranks);
-    MPI_Comm_rank(comm, &rank);
     s.add("mpi_ranks", static_cast<long long>(ranks));
     lem::say("end: %s at step %lld\n", r.end_reason.c_str(), (long long)r.steps);
     lem::say("E_eff = %.6g (%.4f E_unit)   sigma_eff = %.6g (%.4f sigma_unit) at strain %.4e\n",
@@ -270,10 +352,27 @@ int main(int argc, char** argv) {
              (long long)r.broken_total(), r.particle_damage(), (long long)r.solves,
              (long long)r.iterations, (long long)r.preconditioner_builds, (long long)r.steps,
              r.energy_balance_error, r.seconds);
-    if (rank == 0) {
-      lem::write_text_file_atomically(options.output_dir + "/summary.csv", s.csv());
-      lem::write_text_file_atomically(options.output_dir + "/summary.json", s.json());
-    }
-    lem::say("results in %s/\n", options.output_dir.c_str());
+    // Commit: every file in place and synced, then the manifest, then the
+    // checkpoint goes (docs/fracture.md, "Results").
+    lem::run_on_root(comm, [&] {
+      lem::write_text_file_atomically(dir + "/summary.csv", s.csv());
+      lem::write_text_file_atomically(dir + "/summary.json", s.json());
+      std::vector<std::string> files = {"curve.csv", "broken.csv", "summary.csv",
+                                        "summary.json"};
+      for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+        const std::string name = entry.path().filename().string();
+        const std::string ext = entry.path().extension().string();
+        if ((name.rfind("snapshot_", 0) == 0 || name.rfind("elastic.", 0) == 0 ||
+             name.rfind("fields.", 0) == 0) &&
+            (ext == ".h5" || ext == ".xmf"))
+          files.push_back(name);
+      }
+      std::sort(files.begin() + 4, files.end());
+      lem::fault_point("before_manifest");
+      lem::commit_results(dir, "lem_fracture", fingerprint, files);
+      lem::fault_point("after_manifest");
+      lem::remove_checkpoint(dir);
+    });
+    lem::say("results in %s/\n", dir.c_str());
   });
 }

@@ -105,18 +105,22 @@ int main(int argc, char** argv) {
                             "(no '/'; the directory is -output_dir)");
     const std::string summary_stem = stem == "sample" ? "summary" : stem + "_summary";
     lem::validate(spec.packing);
-    lem::prepare_output_dir(comm, dir, {stem + ".h5", stem + ".xmf", summary_stem + ".json",
-                                        summary_stem + ".csv"});
     const auto provenance = lem::collect_provenance(comm, "lem_sample");
 
+    lem::CementedSample sample;
     lem::run_on_root(comm, [&] {
       lem::say("packing %lld spheres (seed %llu), cube of %lld centres, lattice seed %llu, "
                "matrix fraction %g\n",
                (long long)spec.packing.count, (unsigned long long)spec.packing.seed,
                (long long)spec.sample_particles, (unsigned long long)spec.lattice.seed,
                spec.bridges.matrix_fraction);
-      const lem::CementedSample sample = lem::build_cemented_sample(spec);
+      sample = lem::build_cemented_sample(spec);
       report(sample.stats, spec);
+    });
+    // Only once the sample is made: a failure keeps older results.
+    lem::prepare_output_dir(comm, dir, {stem + ".h5", stem + ".xmf", summary_stem + ".json",
+                                        summary_stem + ".csv"});
+    lem::run_on_root(comm, [&] {
       const std::string path = dir + "/" + stem;
       lem::write_sample(path, sample, spec, provenance);
       const lem::Summary summary = sample_summary(sample.stats, spec, path + ".h5");

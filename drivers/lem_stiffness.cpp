@@ -88,7 +88,6 @@ int main(int argc, char** argv) {
       throw lem::InputError("option -stiffness_fractions: give at least two fractions for the fits");
     const lem::SolverOptions solver = lem::read_solver_options(comm);
     lem::check_option_names(comm);
-    lem::prepare_output_dir(comm, dir, {"stiffness.csv", "fits.csv", "summary.json"});
     const auto provenance = lem::collect_provenance(comm, "lem_stiffness");
     int rank = 0;
     MPI_Comm_rank(comm, &rank);
@@ -113,6 +112,9 @@ int main(int argc, char** argv) {
       return l;
     });
     lem::check_unused_options();
+    // Only once the sample and the solver options proved good: bad input
+    // keeps older results.
+    lem::prepare_output_dir(comm, dir, {"stiffness.csv", "fits.csv", "summary.json"});
     using lem::Phase;
     auto lattice_modulus = [&](Phase p) { return unit.young * table.modulus[int(p)]; };
     const double Ep = lattice_modulus(Phase::p), Em = lattice_modulus(Phase::m),

@@ -32,11 +32,12 @@ int main(int argc, char** argv) {
     const lem::SolverOptions solver = lem::read_solver_options(comm);
     lem::check_option_names(comm);
     const auto provenance = lem::collect_provenance(comm, "lem_tension");
-    lem::prepare_output_dir(comm, dir, {"summary.json", "summary.csv", "fields.h5", "fields.xmf"});
 
     lem::SetupReport setup;
     auto lattice = lem::setup_tension_lattice(
         comm, [&](lem::SampleInfo& info) { return lem::build_sample(sample, info); }, setup);
+    // Only once the sample is read and checked: bad input keeps older results.
+    lem::prepare_output_dir(comm, dir, {"summary.json", "summary.csv", "fields.h5", "fields.xmf"});
     lem::say("lattice: %lld nodes, %lld bonds (%lld in the system), a = %.4g, L_n = %.4g, "
              "coordination %.2f\n",
              (long long)setup.sample.stats.nodes, (long long)setup.sample.stats.bonds,

@@ -3,7 +3,9 @@
 # sample meshes/mini.h5 on 2 ranks (paper sect. 2.3): calibrates sigma^[p]
 # and E^[p] on the homogeneous lattice, breaks the sample, prints E_eff and
 # sigma_eff, and writes results/main/{summary.json,summary.csv,curve.csv,
-# broken.csv,fields.h5,fields.xmf,elastic.h5,elastic.xmf,fracture.png,stress.png}.
+# broken.csv,fields.h5,fields.xmf,elastic.h5,elastic.xmf,manifest.txt,
+# fracture.png,stress.png}.  Run again, it finds the result complete and
+# computes nothing (pass -output_overwrite to compute it again).
 # Extra arguments are passed to lem_fracture (PETSc options).
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"

@@ -36,6 +36,13 @@ class PetscFailure : public std::runtime_error {
   explicit PetscFailure(const std::string& message) : std::runtime_error(message) {}
 };
 
+/// Results could not be written (full disk, failed write, close, sync or
+/// rename).  The message names the file; exit status 3.
+class IoError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 /// A numerical failure (diverged solve, NaN) that must stop the run.
 class NumericalError : public std::runtime_error {
  public:
@@ -63,12 +70,12 @@ class HelpShown : public std::runtime_error {
   } while (0)
 
 /// A driver's exit status for `error`: 1 InputError, 2 NumericalError,
-/// 4 Interrupted, 0 HelpShown, 3 anything else.
+/// 4 Interrupted, 0 HelpShown, 3 anything else (IoError among them).
 int exit_status(const std::exception& error);
 
 /// Collective: if `error` is set on any rank, every rank throws the error of
 /// the lowest such rank (that rank rethrows its own; the others a copy of the
-/// same type and message: InputError, NumericalError, Interrupted,
+/// same type and message: InputError, IoError, NumericalError, Interrupted,
 /// HelpShown, PetscFailure, std::invalid_argument, std::logic_error, else
 /// std::runtime_error).  Returns normally on every rank when no rank failed.
 void agree_on_error(MPI_Comm comm, const std::exception_ptr& error);

@@ -49,8 +49,10 @@ struct FractureResult : FractureTally {
 /// Runs the protocol on an assembled system.  Writes <output_dir>/curve.csv,
 /// broken.csv (complete only at the end: *.part while running), snapshots
 /// and checkpoint.bin (which records a hash of the sample and the options
-/// that change the results, so that a resume with others is refused).
-/// Checks the options database for unused options after the first solve,
+/// that change the results, so that a resume with others is refused).  The
+/// checkpoint stays when the run completes: the caller removes it
+/// (remove_checkpoint) once it has committed the results, so that a kill
+/// before the commit resumes instead of starting over.  Checks the options database for unused options after the first solve,
 /// when PETSc has read its own (a misspelt option stops the run there).
 FractureResult run_fracture(DistributedLattice& lattice, ElasticSystem& system,
                             const FractureOptions& options, const Provenance& provenance);

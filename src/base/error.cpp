@@ -17,6 +17,7 @@ namespace {
 // tests them in this order).
 enum class ErrorType : int {
   input = 1,
+  io,
   numerical,
   interrupted,
   help,
@@ -28,6 +29,7 @@ enum class ErrorType : int {
 
 ErrorType classify(const std::exception& error) {
   if (dynamic_cast<const InputError*>(&error)) return ErrorType::input;
+  if (dynamic_cast<const IoError*>(&error)) return ErrorType::io;
   if (dynamic_cast<const NumericalError*>(&error)) return ErrorType::numerical;
   if (dynamic_cast<const Interrupted*>(&error)) return ErrorType::interrupted;
   if (dynamic_cast<const HelpShown*>(&error)) return ErrorType::help;
@@ -40,6 +42,7 @@ ErrorType classify(const std::exception& error) {
 [[noreturn]] void throw_as(ErrorType type, const std::string& message) {
   switch (type) {
     case ErrorType::input: throw InputError(message);
+    case ErrorType::io: throw IoError(message);
     case ErrorType::numerical: throw NumericalError(message);
     case ErrorType::interrupted: throw Interrupted(message);
     case ErrorType::help: throw HelpShown(message);

@@ -4,6 +4,7 @@
 #include "lem/collective.hpp"
 #include "lem/driver.hpp"
 #include "lem/error.hpp"
+#include "lem/files.hpp"
 #include "lem/hdf5_writer.hpp"
 
 #include <cstdio>
@@ -227,6 +228,12 @@ void CheckpointStore::save(const DamageLedger& ledger) const {
   });
 }
 
-void CheckpointStore::remove() const { std::remove(path_.c_str()); }
+std::string checkpoint_path(const std::string& output_dir) {
+  return output_dir + "/checkpoint.bin";
+}
+
+void remove_checkpoint(const std::string& output_dir) {
+  if (std::remove(checkpoint_path(output_dir).c_str()) == 0) sync_directory(output_dir);
+}
 
 }  // namespace lem

@@ -40,7 +40,7 @@ class Protocol {
         recorder_(l, s, o, provenance), progress_(o),
         relaxation_(make_relaxation(RelaxationParts{l, s, o, critical_, ledger_, solver_,
                                                     recorder_, progress_, clock_, state_.tally})),
-        checkpoint_(l, o.output_dir + "/checkpoint.bin", fracture_fingerprint(l, o)) {}
+        checkpoint_(l, checkpoint_path(o.output_dir), fracture_fingerprint(l, o)) {}
 
   FractureResult run();
 
@@ -228,9 +228,9 @@ FractureResult Protocol::run() {
     }
   }
 
-  // Complete: move the results into place, drop the checkpoint.
+  // Complete: move the logs into place; the caller commits the results and
+  // then drops the checkpoint.
   recorder_.finish();
-  run_on_root(l_.comm, [&] { checkpoint_.remove(); });
 
   const TensionResponse r = system_.response();
   FractureResult result;

@@ -8,6 +8,7 @@
 #include "lem/tension_output.hpp"
 
 #include <cerrno>
+#include <cstdarg>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -17,26 +18,64 @@ namespace lem {
 
 FractureRecorder::FractureRecorder(const DistributedLattice& lattice, const ElasticSystem& system,
                                    const FractureOptions& options, const Provenance& provenance)
-    : lattice_(lattice), system_(system), options_(options), provenance_(provenance),
-      curve_path_(options.output_dir + "/curve.csv"),
-      broken_path_(options.output_dir + "/broken.csv") {
+    : lattice_(lattice), system_(system), options_(options), provenance_(provenance) {
   MPI_Comm_rank(lattice.comm, &rank_);
+  curve_.final_path = options.output_dir + "/curve.csv";
+  broken_.final_path = options.output_dir + "/broken.csv";
+}
+
+void FractureRecorder::Stream::open(const char* mode) {
+  file.reset(std::fopen(part().c_str(), mode));
+  if (!file) throw IoError("cannot open '" + part() + "': " + std::strerror(errno));
+  error.clear();
+}
+
+void FractureRecorder::Stream::print(const char* format, ...) {
+  // After a failure nothing more is written: a full disk that frees again
+  // must not splice rows together.
+  if (!file || !error.empty()) return;
+  va_list args;
+  va_start(args, format);
+  const int n = std::vfprintf(file.get(), format, args);
+  va_end(args);
+  if (n < 0) error = std::strerror(errno);
+}
+
+void FractureRecorder::Stream::flush() {
+  if (file && error.empty() && std::fflush(file.get()) != 0) error = std::strerror(errno);
+}
+
+void FractureRecorder::Stream::check() {
+  flush();
+  // stdio's error flag is sticky: it also catches a failed implicit flush.
+  if (file && error.empty() && std::ferror(file.get())) error = "a write failed";
+  if (!error.empty())
+    throw IoError("cannot write '" + part() + "': " + error + " (the results are incomplete; "
+                  "nothing was renamed)");
+}
+
+void FractureRecorder::Stream::sync() {
+  check();
+  if (::fsync(fileno(file.get())) != 0)
+    throw IoError("cannot sync '" + part() + "': " + std::strerror(errno));
+}
+
+void FractureRecorder::Stream::close() {
+  sync();
+  if (std::fclose(file.release()) != 0)
+    throw IoError("cannot close '" + part() + "': " + std::strerror(errno));
 }
 
 void FractureRecorder::open_new() {
   run_on_root(lattice_.comm, [&] {
-    curve_.reset(std::fopen((curve_path_ + ".part").c_str(), "wb"));
-    broken_.reset(std::fopen((broken_path_ + ".part").c_str(), "wb"));
-    if (!curve_ || !broken_)
-      throw InputError("cannot write the results in '" + options_.output_dir + "': " +
-                       std::strerror(errno));
+    curve_.open("wb");
+    broken_.open("wb");
     // Snapshots of an earlier run would mix with this run's.
     std::error_code ec;
     for (const auto& entry : std::filesystem::directory_iterator(options_.output_dir, ec))
       if (entry.path().filename().string().rfind("snapshot_", 0) == 0)
         std::filesystem::remove(entry.path(), ec);
-    std::fprintf(curve_.get(),
-                 "# stress-strain curve of lem_fracture; sigma columns normalised by "
+    curve_.print("# stress-strain curve of lem_fracture; sigma columns normalised by "
                  "sigma_unit = %.10g (E^phase units), raw stress in E^phase units, energies in "
                  "lattice units (k a^2)\n"
                  "step,strain,displacement_over_a,stress_before_norm,stress_norm,stress,"
@@ -44,29 +83,46 @@ void FractureRecorder::open_new() {
                  "solves,iterations,pc_builds,work,stored_energy,released_energy,idle,"
                  "elapsed_s\n",
                  options_.strength_unit);
-    std::fprintf(broken_.get(), "step,cycle,strain,bond_id,phase,x,y,z,force,threshold\n");
-    std::fflush(curve_.get());
-    std::fflush(broken_.get());
+    broken_.print("step,cycle,strain,bond_id,phase,x,y,z,force,threshold\n");
+    curve_.check();
+    broken_.check();
   });
 }
 
 void FractureRecorder::reopen(const ResultFileMarks& marks) {
   run_on_root(lattice_.comm, [&] {
-    // Drop the rows written after the checkpoint.
-    for (auto [path, size] : {std::pair{curve_path_ + ".part", marks.curve_bytes},
-                              std::pair{broken_path_ + ".part", marks.broken_bytes}}) {
-      if (::truncate(path.c_str(), static_cast<off_t>(size)) != 0)
-        throw InputError("cannot resume: '" + path + "' is missing or unwritable (" +
-                         std::strerror(errno) + "); remove the checkpoint to start over");
+    namespace fs = std::filesystem;
+    for (auto [stream, size] : {std::pair{&curve_, marks.curve_bytes},
+                                std::pair{&broken_, marks.broken_bytes}}) {
+      const std::string part = stream->part(), final_path = stream->final_path;
+      std::error_code ec;
+      // A run killed after renaming its logs but before committing them
+      // (no manifest): they are still this run's, so take them back.
+      if (!fs::exists(part, ec) && fs::exists(final_path, ec)) {
+        if (std::rename(final_path.c_str(), part.c_str()) != 0)
+          throw IoError("cannot resume: renaming '" + final_path + "' back to '" + part +
+                        "' failed: " + std::strerror(errno));
+        sync_directory(options_.output_dir);
+      }
+      const auto actual = fs::file_size(part, ec);
+      if (ec)
+        throw InputError("cannot resume: '" + part + "' is missing (" + ec.message() +
+                         "); remove the checkpoint to start over");
+      // Padding it would put NUL bytes in the results.
+      if (static_cast<std::int64_t>(actual) < size)
+        throw InputError("cannot resume: '" + part + "' has " + std::to_string(actual) +
+                         " bytes, fewer than the " + std::to_string(size) + " the checkpoint "
+                         "records (damaged or replaced); remove the checkpoint to start over");
+      // Drop the rows written after the checkpoint.
+      if (::truncate(part.c_str(), static_cast<off_t>(size)) != 0)
+        throw IoError("cannot resume: '" + part + "' is unwritable (" + std::strerror(errno) +
+                      "); remove the checkpoint to start over");
     }
-    curve_.reset(std::fopen((curve_path_ + ".part").c_str(), "ab"));
-    broken_.reset(std::fopen((broken_path_ + ".part").c_str(), "ab"));
-    if (!curve_ || !broken_)
-      throw InputError("cannot write the results in '" + options_.output_dir + "': " +
-                       std::strerror(errno));
+    curve_.open("ab");
+    broken_.open("ab");
     // ftell() of a fresh append stream may say 0 until the first write.
-    std::fseek(curve_.get(), 0, SEEK_END);
-    std::fseek(broken_.get(), 0, SEEK_END);
+    std::fseek(curve_.file.get(), 0, SEEK_END);
+    std::fseek(broken_.file.get(), 0, SEEK_END);
   });
 }
 
@@ -75,8 +131,7 @@ void FractureRecorder::curve_row(std::int64_t step, const TensionResponse& r,
                                  const FractureTally& t, double elapsed) {
   if (rank_ != 0) return;
   const double su = options_.stress_unit, norm = su / options_.strength_unit;
-  std::fprintf(curve_.get(),
-               "%lld,%.12e,%.12e,%.12e,%.12e,%.12e,%lld,%lld,%lld,%lld,%lld,%.6f,%d,%lld,%lld,"
+  curve_.print("%lld,%.12e,%.12e,%.12e,%.12e,%.12e,%lld,%lld,%lld,%lld,%lld,%.6f,%d,%lld,%lld,"
                "%lld,%lld,%.12e,%.12e,%.12e,%d,%.3f\n",
                (long long)step, r.strain_zz, r.top_displacement / lattice_.mean_bond_length,
                stress_before * norm, r.stress_zz * norm, r.stress_zz * su,
@@ -85,38 +140,37 @@ void FractureRecorder::curve_row(std::int64_t step, const TensionResponse& r,
                (long long)t.pinned_nodes, (long long)t.solves, (long long)t.iterations,
                (long long)t.preconditioner_builds, t.work, r.stored_energy, t.released_energy,
                idle ? 1 : 0, elapsed);
-  std::fflush(curve_.get());
+  curve_.flush();
 }
 
 void FractureRecorder::rupture(std::int64_t step, int cycle, double strain, const Rupture& x) {
   if (rank_ != 0) return;
-  std::fprintf(broken_.get(), "%lld,%d,%.12e,%lld,%s,%.9g,%.9g,%.9g,%.12e,%.12e\n",
-               (long long)step, cycle, strain, (long long)x.id, kPhaseNames[x.phase], x.x, x.y,
-               x.z, x.force, x.threshold);
+  broken_.print("%lld,%d,%.12e,%lld,%s,%.9g,%.9g,%.9g,%.12e,%.12e\n", (long long)step, cycle,
+                strain, (long long)x.id, kPhaseNames[x.phase], x.x, x.y, x.z, x.force,
+                x.threshold);
 }
 
 void FractureRecorder::flush_ruptures() {
-  if (rank_ == 0) std::fflush(broken_.get());
+  if (rank_ == 0) broken_.flush();
 }
 
 ResultFileMarks FractureRecorder::marks() {
   ResultFileMarks m;
-  if (rank_ == 0) {
-    std::fflush(curve_.get());
-    std::fflush(broken_.get());
-    m.curve_bytes = std::ftell(curve_.get());
-    m.broken_bytes = std::ftell(broken_.get());
-  }
+  run_on_root(lattice_.comm, [&] {
+    curve_.check();
+    broken_.check();
+    m.curve_bytes = std::ftell(curve_.file.get());
+    m.broken_bytes = std::ftell(broken_.file.get());
+  });
   MPI_Bcast(&m, sizeof(m), MPI_BYTE, 0, lattice_.comm);
   return m;
 }
 
 void FractureRecorder::sync() {
-  if (rank_ != 0) return;
-  std::fflush(curve_.get());
-  std::fflush(broken_.get());
-  ::fsync(fileno(curve_.get()));
-  ::fsync(fileno(broken_.get()));
+  run_on_root(lattice_.comm, [&] {
+    curve_.sync();
+    broken_.sync();
+  });
 }
 
 void FractureRecorder::snapshot_if_due(std::int64_t step, std::int64_t previous_step,
@@ -152,10 +206,17 @@ void FractureRecorder::elastic_fields(const TensionResponse& r) {
 
 void FractureRecorder::finish() {
   run_on_root(lattice_.comm, [&] {
-    curve_.reset();
-    broken_.reset();
-    for (const std::string& path : {curve_path_, broken_path_})
-      move_into_place(path + ".part", path);
+    // Both closed and synced before either is renamed: a failure renames
+    // nothing.
+    curve_.close();
+    broken_.close();
+    for (Stream* stream : {&curve_, &broken_}) {
+      if (std::rename(stream->part().c_str(), stream->final_path.c_str()) != 0)
+        throw IoError("cannot move '" + stream->part() + "' to '" + stream->final_path +
+                      "': " + std::strerror(errno));
+      if (stream == &curve_) fault_point("between_renames");
+    }
+    sync_directory(options_.output_dir);
   });
 }
 

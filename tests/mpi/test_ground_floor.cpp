@@ -62,6 +62,11 @@ TEST(Agreement, ErrorOfTheLastRankReachesEveryRankWithItsType) {
             4);
   EXPECT_THROW(run_collectively(PETSC_COMM_WORLD,
                                 [&] {
+                                  if (rank() == last) throw IoError("disk full");
+                                }),
+               IoError);
+  EXPECT_THROW(run_collectively(PETSC_COMM_WORLD,
+                                [&] {
                                   if (rank() == last) throw std::invalid_argument("bad slice");
                                 }),
                std::invalid_argument);

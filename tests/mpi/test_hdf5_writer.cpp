@@ -524,7 +524,7 @@ TEST_F(Hdf5Writer, TextFileIsWrittenAtomically) {
   try {
     lem::write_text_file_atomically(bad, "x");
     ADD_FAILURE() << "no exception for " << bad;
-  } catch (const lem::InputError& e) {
+  } catch (const lem::IoError& e) {
     EXPECT_NE(std::string(e.what()).find(bad), std::string::npos) << e.what();
   }
 }

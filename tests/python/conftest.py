@@ -48,7 +48,17 @@ def write_fracture_results(directory, summary_extra=None):
     summary.update(summary_extra or {})
     with open(os.path.join(directory, "summary.json"), "w") as f:
         json.dump(summary, f)
+    write_manifest(directory, ("curve.csv", "broken.csv", "summary.json"))
     return directory
+
+
+def write_manifest(directory, names):
+    """The manifest lem_fracture writes last, listing `names` with their sizes."""
+    with open(os.path.join(directory, "manifest.txt"), "w") as f:
+        f.write("program=lem_fracture\n")
+        for name in names:
+            f.write("file=%s %d\n" % (name, os.path.getsize(os.path.join(directory, name))))
+        f.write("fingerprint ranks=1\nend\n")
 
 
 def write_elastic(path, coords, stress, volume, applied, strain=1e-5):

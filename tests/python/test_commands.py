@@ -10,7 +10,7 @@ import sys
 import numpy as np
 import pytest
 
-from conftest import TOOLS, cube_lattice, write_elastic
+from conftest import TOOLS, cube_lattice, write_elastic, write_manifest
 from lem_tools import phases
 
 SCRIPTS = sorted(glob.glob(os.path.join(TOOLS, "*.py")))
@@ -65,6 +65,7 @@ def test_plot_fracture_draws_a_run(fracture_dir):
 def test_plot_fracture_reports_a_broken_table(fracture_dir):
     with open(os.path.join(fracture_dir, "curve.csv"), "a") as f:
         f.write("4,0.1\n")
+    write_manifest(fracture_dir, ("curve.csv", "broken.csv", "summary.json"))
     done = run_script("plot_fracture.py", fracture_dir)
     assert done.returncode == 1
     assert "curve.csv: line 6 has 2 fields" in done.stderr
@@ -170,3 +171,11 @@ def test_phase_names_follow_the_cpp_enum():
         pytest.fail("enum class Phase not found under include/: update this test and phases.py")
     order = [re.match(r"\s*(\w+)\s*=\s*(\d+)", e).groups() for e in match.group(1).split(",")]
     assert tuple(name for name, _ in sorted(order, key=lambda e: int(e[1]))) == phases.PHASES
+
+
+def test_plot_fracture_refuses_an_unfinished_run(fracture_dir):
+    os.remove(os.path.join(fracture_dir, "manifest.txt"))
+    done = run_script("plot_fracture.py", fracture_dir)
+    assert done.returncode == 1
+    assert "holds no finished result (no manifest.txt" in done.stderr
+    assert not os.path.exists(os.path.join(fracture_dir, "fracture.png"))

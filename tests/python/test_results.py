@@ -139,3 +139,22 @@ def test_elastic_fields_problems(tmp_path):
         results.read_elastic(str(tmp_path / "b.h5"))
     with pytest.raises(ResultsError, match="cannot read"):
         results.read_hdf5(str(tmp_path / "b.h5"), ("bonds/force",))
+
+
+def test_a_finished_run_is_one_whose_manifest_agrees(fracture_dir):
+    assert results.finished_problem(fracture_dir) is None
+    with open(os.path.join(fracture_dir, "broken.csv"), "a") as f:
+        f.write("9,0,1e-4,99,p,0,0,0,1e-6,0.1\n")
+    with pytest.raises(ResultsError, match="broken.csv has .* bytes, manifest.txt says"):
+        results.require_finished(fracture_dir)
+    os.remove(os.path.join(fracture_dir, "broken.csv"))
+    assert "broken.csv is missing" in results.finished_problem(fracture_dir)
+    manifest = os.path.join(fracture_dir, "manifest.txt")
+    with open(manifest) as f:
+        text = f.read()
+    with open(manifest, "w") as f:
+        f.write(text.replace("end\n", ""))
+    with pytest.raises(ResultsError, match="no end line"):
+        results.require_finished(fracture_dir)
+    os.remove(manifest)
+    assert "holds no finished result" in results.finished_problem(fracture_dir)

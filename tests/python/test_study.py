@@ -6,7 +6,7 @@ import os
 
 import pytest
 
-from conftest import write_curve
+from conftest import write_curve, write_manifest
 from lem_tools import results, study
 from lem_tools.study import Study, StudyError, load_study
 
@@ -103,6 +103,7 @@ def complete_run(s, run, beta=0.8):
                                                (2e-4, 0.2, 0.1, 2, 3, 10, 5)])
     with open(os.path.join(d, "stress.json"), "w") as f:
         json.dump({"tail": {"beta": beta + rho}}, f)
+    write_manifest(d, ("summary.json", "curve.csv"))
 
 
 @pytest.fixture

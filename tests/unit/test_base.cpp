@@ -76,7 +76,7 @@ TEST_F(Files, UnwritableTextNamesTheFile) {
   try {
     write_text_file_atomically(bad, "x");
     ADD_FAILURE() << "no error";
-  } catch (const InputError& e) {
+  } catch (const IoError& e) {
     EXPECT_NE(std::string(e.what()).find(bad), std::string::npos) << e.what();
   }
 }
@@ -89,14 +89,55 @@ TEST_F(Files, MoveIntoPlacePublishesAndNamesBothFilesOnFailure) {
   try {
     move_into_place(path("missing.part"), path("out.csv"));
     ADD_FAILURE() << "no error";
-  } catch (const InputError& e) {
+  } catch (const IoError& e) {
     const std::string what = e.what();
     EXPECT_NE(what.find("missing.part"), std::string::npos) << what;
     EXPECT_NE(what.find("out.csv"), std::string::npos) << what;
   }
 }
 
+TEST_F(Files, ASecondLockOnTheOutputDirectoryIsRefused) {
+  const std::string dir = path("out");
+  {
+    const OutputLock first(MPI_COMM_SELF, dir);
+    EXPECT_TRUE(fs::is_directory(dir));
+    try {
+      const OutputLock second(MPI_COMM_SELF, dir);
+      ADD_FAILURE() << "a second lock was granted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("in use by another run"), std::string::npos)
+          << e.what();
+    }
+  }
+  const OutputLock again(MPI_COMM_SELF, dir);  // released with its holder
+}
+
+TEST_F(Files, ManifestListsTheCommittedFilesAndIsWithdrawnFirst) {
+  { std::ofstream(path("curve.csv")) << "a,b\n1,2\n"; }
+  { std::ofstream(path("summary.json")) << "{}"; }
+  EXPECT_FALSE(read_manifest(dir_.string()).has_value());
+  commit_results(dir_.string(), "prog", "x=1\ny=2\n", {"curve.csv", "summary.json"});
+  const auto m = read_manifest(dir_.string());
+  ASSERT_TRUE(m.has_value());
+  EXPECT_EQ(m->program, "prog");
+  EXPECT_EQ(m->fingerprint, "x=1\ny=2\n");
+  ASSERT_EQ(m->files.size(), 2u);
+  EXPECT_EQ(m->files[0], (std::pair<std::string, std::int64_t>{"curve.csv", 8}));
+  EXPECT_EQ(manifest_mismatch(dir_.string(), *m), "");
+  { std::ofstream(path("curve.csv"), std::ios::app) << "3,4\n"; }
+  EXPECT_NE(manifest_mismatch(dir_.string(), *m).find("curve.csv has 12 bytes"), std::string::npos);
+  // A manifest cut short is refused, not half believed.
+  const std::string text = read(path("manifest.txt"));
+  { std::ofstream(path("manifest.txt")) << text.substr(0, text.find("end")); }
+  EXPECT_THROW(read_manifest(dir_.string()), InputError);
+  withdraw_results(dir_.string(), {"curve.csv"});
+  EXPECT_FALSE(fs::exists(path("manifest.txt")));
+  EXPECT_FALSE(fs::exists(path("curve.csv")));
+  EXPECT_TRUE(fs::exists(path("summary.json")));
+}
+
 TEST(Errors, ExitStatusFollowsTheType) {
+  EXPECT_EQ(exit_status(IoError("x")), 3);
   EXPECT_EQ(exit_status(InputError("x")), 1);
   EXPECT_EQ(exit_status(NumericalError("x")), 2);
   EXPECT_EQ(exit_status(PetscFailure("KSPSolve", 1)), 3);

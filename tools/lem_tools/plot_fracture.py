@@ -17,7 +17,7 @@ from . import cli
 from .errors import ToolError
 from .phases import BREAKABLE, broken_column, phase_name
 from .plotting import phase_color, plt, save_figure
-from .results import finite_number, read_broken, read_curve, read_summary
+from .results import finite_number, read_broken, read_curve, read_summary, require_finished
 
 MAX_SCATTER = 60000  # broken bonds drawn in panel (b); the legend counts all of them
 STRAIN_SCALE = 1e3   # strain axes are in units of 1e-3
@@ -162,6 +162,7 @@ def draw(directory):
     directory = directory.rstrip("/") or "/"
     if not os.path.isdir(directory):
         raise ToolError(f"{directory} is not a directory")
+    require_finished(directory)
     summary = read_summary(f"{directory}/summary.json")
     curve = read_curve(f"{directory}/curve.csv")
     xyz, phase, threshold = read_broken(f"{directory}/broken.csv")

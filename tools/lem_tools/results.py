@@ -1,5 +1,9 @@
 """The one reader of the files that lem's drivers and the study write.
 
+A lem_fracture folder holds a finished result only if its manifest.txt
+(written last, listing every result file and its size) is there and agrees
+with the files: require_finished checks that before anything is read.
+
 CSV tables (curve.csv, broken.csv, summary.csv, a study's results.csv, the
 tables of lem_convergence and lem_stiffness) may start with '#' comment
 lines; JSON files (summary.json, stress.json, run records) must hold an
@@ -119,6 +123,55 @@ def _scalar(text):
         except ValueError:
             pass
     return text
+
+
+MANIFEST = "manifest.txt"
+
+
+def read_manifest(directory):
+    """{file name: size} committed by the manifest of `directory`, or None if
+    it has none (the run did not finish)."""
+    path = os.path.join(directory, MANIFEST)
+    try:
+        with open(path) as f:
+            lines = f.read().splitlines()
+    except FileNotFoundError:
+        return None
+    except (OSError, UnicodeDecodeError) as e:
+        raise ResultsError("cannot read %s: %s" % (path, e)) from None
+    files = {}
+    for line in lines:
+        if line.startswith("file="):
+            name, _, size = line[len("file="):].rpartition(" ")
+            if not name or not size.isdigit():
+                raise ResultsError("cannot read %s: bad line %r" % (path, line))
+            files[name] = int(size)
+    if "end" not in lines:
+        raise ResultsError("cannot read %s: no end line (damaged)" % path)
+    return files
+
+
+def finished_problem(directory):
+    """Why `directory` holds no finished result, or None if it does."""
+    files = read_manifest(directory)
+    if files is None:
+        return "%s holds no finished result (no %s: the run did not complete)" % (
+            directory, MANIFEST)
+    for name, size in files.items():
+        path = os.path.join(directory, name)
+        if not os.path.isfile(path):
+            return "%s is missing (listed in %s)" % (path, MANIFEST)
+        if os.path.getsize(path) != size:
+            return "%s has %d bytes, %s says %d (changed since the run)" % (
+                path, os.path.getsize(path), MANIFEST, size)
+    return None
+
+
+def require_finished(directory):
+    """Raise ResultsError unless `directory` holds a finished result."""
+    problem = finished_problem(directory)
+    if problem:
+        raise ResultsError(problem)
 
 
 def read_summary(path):

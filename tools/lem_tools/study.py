@@ -24,8 +24,9 @@ Study file keys (YAML; anything else is an error):
 Layout of OUT_DIR: study.json, samples/rho_<r>.h5, calibration/, runs/<id>/
 (run.json, the lem_fracture results, log, failed.json after a failure),
 results.csv, figures/*.png, fit.json.  A run is complete when its
-summary.json exists and its run.json matches the study; an interrupted run
-(exit 4, checkpoint written) resumes from its checkpoint when run again.
+manifest.txt agrees with its files and its run.json matches the study; an
+interrupted run (exit 4, checkpoint written) resumes from its checkpoint when
+run again.
 """
 import hashlib
 import json
@@ -40,7 +41,7 @@ import yaml
 from . import cli
 from .errors import ToolError
 from .files import write_json
-from .results import ResultsError, read_json
+from .results import ResultsError, finished_problem, read_json
 
 TOOLS = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 ROOT = os.path.dirname(TOOLS)
@@ -209,8 +210,10 @@ class Study:
             "-phase_sigma_pp", "0"] + options_list(self.spec["fracture"]) + extra)
 
     def calibration(self):
-        path = os.path.join(self.out, "calibration", "summary.json")
-        return read_json(path) if os.path.exists(path) else None
+        directory = os.path.join(self.out, "calibration")
+        if finished_problem(directory) is not None:
+            return None
+        return read_json(os.path.join(directory, "summary.json"))
 
     def calibrate(self):
         """sigma^[p], E^[p]: the same lattice (and so the same homogeneous
@@ -236,7 +239,7 @@ class Study:
         d = self.run_dir(run)
         try:
             return (read_json(os.path.join(d, "run.json")) == self.run_record(run)
-                    and os.path.exists(os.path.join(d, "summary.json")))
+                    and finished_problem(d) is None)
         except ResultsError:
             return False
 

@@ -58,6 +58,12 @@ class StopSignals {
   struct sigaction old_term_ {}, old_usr1_ {};
 };
 
+/// <output_dir>/checkpoint.bin.
+std::string checkpoint_path(const std::string& output_dir);
+/// Rank 0: delete the checkpoint of `output_dir` once its results are
+/// committed (the removal is synced).
+void remove_checkpoint(const std::string& output_dir);
+
 /// The checkpoint file of one run directory: keeps the state of the last
 /// equilibrium (hold) so that it can be written later (save), also after a
 /// failed solve.  Collective except where noted.
@@ -75,8 +81,6 @@ class CheckpointStore {
   void save(const DamageLedger& ledger) const;
   const FractureState& held_state() const { return held_.state; }
   const std::string& path() const { return path_; }
-  /// Rank 0: delete the file (the run is complete).
-  void remove() const;
 
  private:
   const DistributedLattice& lattice_;

@@ -2,7 +2,10 @@
 // (curve.csv, one row per evaluated load step), every rupture (broken.csv),
 // field snapshots and the fields of the first equilibrium.  The CSV files
 // grow as <name>.part and are renamed when the run is complete; on resume
-// they are cut back to the lengths recorded with the checkpoint.
+// they are cut back to the lengths recorded with the checkpoint.  Every
+// write is checked: a failure is remembered on rank 0 and raised on every
+// rank as an IoError naming the file at the next collective call (marks,
+// sync, finish), before anything is renamed.
 #pragma once
 
 #include "lem/distributed_lattice.hpp"
@@ -35,9 +38,11 @@ class FractureRecorder {
   void rupture(std::int64_t step, int cycle, double strain, const Rupture& x);
   void flush_ruptures();
 
-  /// Lengths of the files now (flushed), the same on every rank.  Collective.
+  /// Lengths of the files now (flushed), the same on every rank.  Collective;
+  /// IoError if a write failed.
   ResultFileMarks marks();
-  /// Flush and fsync (before a checkpoint).  Rank 0.
+  /// Flush and fsync (before a checkpoint).  Collective; IoError if a write
+  /// or the sync failed.
   void sync();
 
   /// Fields of the current state as snapshot_<step> when a multiple of
@@ -46,7 +51,8 @@ class FractureRecorder {
   /// elastic.h5: the first equilibrium with its node stresses.  Collective.
   void elastic_fields(const TensionResponse& r);
 
-  /// Close and move curve.csv and broken.csv into place.  Collective.
+  /// Close (checked, synced) and move curve.csv and broken.csv into place.
+  /// Collective.  They are not committed yet: the driver's manifest does that.
   void finish();
 
  private:
@@ -54,14 +60,26 @@ class FractureRecorder {
     void operator()(std::FILE* f) const { std::fclose(f); }
   };
   using File = std::unique_ptr<std::FILE, FileCloser>;
+  /// A results file growing as <final>.part, with its first failure.
+  struct Stream {
+    File file;
+    std::string final_path, error;
+    std::string part() const { return final_path + ".part"; }
+    void open(const char* mode);
+    void print(const char* format, ...) __attribute__((format(printf, 2, 3)));
+    void flush();
+    /// Flush, and throw IoError if any write so far failed.
+    void check();
+    void sync();
+    void close();
+  };
 
   const DistributedLattice& lattice_;
   const ElasticSystem& system_;
   const FractureOptions& options_;
   const Provenance& provenance_;
   int rank_ = 0;
-  std::string curve_path_, broken_path_;
-  File curve_, broken_;
+  Stream curve_, broken_;
 };
 
 }  // namespace lem
