@@ -52,8 +52,9 @@ struct FractureResult : FractureTally {
 /// that change the results, so that a resume with others is refused).  The
 /// checkpoint stays when the run completes: the caller removes it
 /// (remove_checkpoint) once it has committed the results, so that a kill
-/// before the commit resumes instead of starting over.  Checks the options database for unused options after the first solve,
-/// when PETSc has read its own (a misspelt option stops the run there).
+/// before the commit resumes instead of starting over.  Checks the options
+/// database for unused options after the first solve, when PETSc has read
+/// its own (a misspelt option stops the run there).
 FractureResult run_fracture(DistributedLattice& lattice, ElasticSystem& system,
                             const FractureOptions& options, const Provenance& provenance);
 
