@@ -133,11 +133,13 @@ bool already_finished(const std::string& dir, const std::string& fingerprint, bo
 }
 
 // sigma^[p] and E^[p]: from the calibration file of this lattice if there is
-// one, else by breaking the homogeneous lattice (and stored for next time).
+// one, else by breaking the homogeneous lattice (and stored for next time);
+// the warnings of a calibration run go to `warnings`.
 lem::Calibration calibrate(MPI_Comm comm, const lem::SampleOptions& sample,
                            const lem::SolverOptions& solver, double break_strain,
                            const lem::FractureOptions& options, std::string path,
-                           const lem::Provenance& provenance) {
+                           const lem::Provenance& provenance,
+                           std::vector<lem::RunWarning>& warnings) {
   lem::SampleOptions hom = sample;
   hom.homogeneous = true;
   lem::FractureOptions hom_options = options;
@@ -171,6 +173,7 @@ lem::Calibration calibrate(MPI_Comm comm, const lem::SampleOptions& sample,
   lem::say("calibration: the homogeneous lattice (every bond E^p = %g, sigma^p = %g)\n",
            sample.phases.modulus[0], sample.phases.strength[0]);
   const Case hom_case = run_case(std::move(p), solver, hom_options, provenance, false);
+  warnings = hom_case.result.warnings;
   lem::run_on_root(comm, [&] { lem::remove_checkpoint(hom_options.output_dir); });
   lem::Calibration c;
   c.sigma_hom = hom_case.result.peak_stress * hom_case.stress_unit;
@@ -275,9 +278,10 @@ int main(int argc, char** argv) {
 
     const double e_p = sample.phases.modulus[0], s_p = sample.phases.strength[0];
     double sigma_hom = 0, e_hom = 0;
+    std::vector<lem::RunWarning> calibration_warnings;
     if (calibrating) {
-      const lem::Calibration c =
-          calibrate(comm, sample, solver, break_strain, options, calibration_file, provenance);
+      const lem::Calibration c = calibrate(comm, sample, solver, break_strain, options,
+                                           calibration_file, provenance, calibration_warnings);
       sigma_hom = c.sigma_hom;
       e_hom = c.e_hom;
     }
@@ -304,6 +308,7 @@ int main(int argc, char** argv) {
     s.add("sigma_eff", s_eff, "stress");
     s.add("sigma_eff_over_sigma_unit", s_eff / options.strength_unit);
     s.add("strain_at_peak", r.strain_at_peak);
+    s.add("peak_step", static_cast<long long>(std::llround(r.peak_step)));
     s.add("final_strain", r.final_strain);
     s.add("final_stress_over_sigma_unit", r.final_stress * c.stress_unit / options.strength_unit);
     s.add("broken", static_cast<long long>(r.broken_total()));
@@ -338,6 +343,11 @@ int main(int argc, char** argv) {
     s.add("released_energy", r.released_energy, "lattice");
     s.add("energy_balance_error", r.energy_balance_error);
     s.add("end_reason", r.end_reason);
+    // Degradations (docs/fracture.md, "Warnings"): "code:count", the
+    // calibration's prefixed; an empty list for a sound run.
+    std::vector<std::string> warnings = lem::warning_words(calibration_warnings, "calibration_");
+    for (const auto& w : lem::warning_words(r.warnings)) warnings.push_back(w);
+    s.add("warnings", warnings);
     s.add("resumed", static_cast<long long>(r.resumed));
     s.add("seconds", r.seconds, "s");
     int ranks = 1;
