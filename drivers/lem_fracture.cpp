@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <sstream>
 
 static const char help[] =
@@ -130,6 +131,22 @@ bool already_finished(const std::string& dir, const std::string& fingerprint, bo
                           "since it was written:" + changed + "\npass -output_overwrite to "
                           "compute it again");
   return true;
+}
+
+// The warnings listed in the summary of a finished result ("" for none, or
+// for a summary written before warnings were recorded).
+std::string finished_warnings(const std::string& dir) {
+  std::ifstream in(dir + "/summary.json");
+  const std::string key = "\"warnings\": [";
+  for (std::string line; std::getline(in, line);) {
+    const auto at = line.find(key);
+    if (at == std::string::npos) continue;
+    const auto from = at + key.size(), to = line.find(']', from);
+    std::string list = line.substr(from, to == std::string::npos ? to : to - from);
+    list.erase(std::remove(list.begin(), list.end(), '"'), list.end());
+    return list;
+  }
+  return {};
 }
 
 // sigma^[p] and E^[p]: from the calibration file of this lattice if there is
@@ -253,6 +270,13 @@ int main(int argc, char** argv) {
     int finished = 0;
     lem::run_on_root(comm, [&] {
       finished = already_finished(dir, fingerprint, overwrite);
+      // The warning options are not part of the fingerprint: a result
+      // finished with warnings is refused under -fracture_strict.
+      if (finished && options.strict && !finished_warnings(dir).empty())
+        throw lem::NumericalError("output directory '" + dir + "' holds a finished result "
+                                  "with warnings (" + finished_warnings(dir) + "), an error "
+                                  "under -fracture_strict; pass -output_overwrite to compute "
+                                  "it again");
       // A run killed between its commit and the checkpoint's removal.
       if (finished) lem::remove_checkpoint(dir);
     });

@@ -3,7 +3,6 @@
 #include "lem/error.hpp"
 #include "lem/log.hpp"
 
-#include <cmath>
 #include <cstdio>
 
 namespace lem {
@@ -69,8 +68,8 @@ void RunWarnings::at_end(const FractureTally& tally, double energy_balance_error
   if (tally.fallback_solves > 0) {
     std::snprintf(text, sizeof(text),
                   "%lld of %lld solves were finished by the fallback solver (CG + Jacobi) after "
-                  "the multigrid failed twice; check -ksp_max_it, -ksp_rtol, -ksp_type and the -pc_* "
-                  "options",
+                  "the multigrid failed twice; check -ksp_max_it, -ksp_rtol, -ksp_type and the "
+                  "-pc_* options",
                   static_cast<long long>(tally.fallback_solves),
                   static_cast<long long>(tally.solves));
     raise("fallback_solver", tally.fallback_solves, text);

@@ -16,7 +16,8 @@ fail() { echo "FAIL: $*"; exit 1; }
 rm -rf "$work"; mkdir -p "$work"
 run() {  # run NAME ARGS...: stdout in NAME.out, stderr in NAME.err; returns the exit status
   local name="$1"; shift
-  "$prog" -output_dir "$work/$name" -output_fields false "$@" > "$work/$name.out" 2> "$work/$name.err"
+  "$prog" -output_dir "$work/$name" -output_fields false "$@" \
+    > "$work/$name.out" 2> "$work/$name.err"
 }
 # warns NAME CODE PATTERN ARGS...: exit 0, CODE on stderr with PATTERN (the
 # option to change) and in the summary; with -fracture_strict exit 2 and no result.
@@ -31,12 +32,22 @@ warns() {
   echo "ok: $(grep "^warning \[$code\]" "$work/$name.err" | tail -1)"
   run "${name}_strict" "$@" -fracture_strict
   local status=$?
-  [ "$status" -eq 2 ] || fail "${name}_strict: exit $status, not 2: $(tail -3 "$work/${name}_strict.err")"
+  [ "$status" -eq 2 ] ||
+    fail "${name}_strict: exit $status, not 2: $(tail -3 "$work/${name}_strict.err")"
   grep -q -- "$pattern.*\[$code: an error under -fracture_strict\]" "$work/${name}_strict.err" ||
     fail "${name}_strict: message: $(cat "$work/${name}_strict.err")"
   [ -e "$work/${name}_strict/summary.json" ] && fail "${name}_strict left a summary"
   [ -e "$work/${name}_strict/manifest.txt" ] && fail "${name}_strict left a manifest"
   echo "ok: strict exit 2: $(grep -o "numerical failure: .\{60\}" "$work/${name}_strict.err")"
+  # The finished folder with warnings, again under -fracture_strict: refused, kept.
+  local again="$work/$name.again"
+  "$prog" -output_dir "$work/$name" -output_fields false "$@" -fracture_strict > "$again.out" \
+    2> "$again.err"
+  status=$?
+  [ "$status" -eq 2 ] && grep -q "holds a finished result with warnings ($code:" "$again.err" ||
+    fail "$name again under -fracture_strict: exit $status: $(tail -2 "$again.err")"
+  [ -e "$work/$name/manifest.txt" ] || fail "$name: the finished result was withdrawn"
+  echo "ok: the finished folder again under -fracture_strict: exit 2, kept"
 }
 # silent NAME ARGS...: exit 0, no warning anywhere, even under -fracture_strict.
 silent() {
@@ -45,7 +56,9 @@ silent() {
   grep -qi "warning" "$work/$name.err" && fail "$name warns: $(cat "$work/$name.err")"
   grep -q '"warnings": \[\]' "$work/$name/summary.json" ||
     fail "$name: summary.json: $(grep warnings "$work/$name/summary.json")"
-  echo "ok: $name: no warning ($(grep -o '"peak_step": [0-9]*' "$work/$name/summary.json"), $(grep -o '"energy_balance_error": [^,]*' "$work/$name/summary.json"))"
+  local s="$work/$name/summary.json"
+  echo "ok: $name: no warning ($(grep -o '"peak_step": [0-9]*' "$s"),"\
+       "$(grep -o '"energy_balance_error": [^,]*' "$s"))"
 }
 
 case "$mode" in
@@ -59,8 +72,10 @@ fallback)
   grep -q "^warning \[fallback_solver\].* [1-9][0-9]* of [0-9]* solves" "$work/fallback.err" ||
     fail "no count at the end"
   ;;
-coarse) warns coarse coarse_increment "-fracture_increment" "${lattice[@]}" -fracture_increment 1e-3 \
-          -fracture_max_strain_ratio 1.5 ;;
+coarse)
+  warns coarse coarse_increment "-fracture_increment" "${lattice[@]}" -fracture_increment 1e-3 \
+    -fracture_max_strain_ratio 1.5
+  ;;
 mini)
   sample=(-sample_file "$meshes/mini.h5" -fracture_calibrate 0 -fracture_max_strain_ratio 1.5)
   silent mini_default "${sample[@]}"
