@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <sstream>
 
 static const char help[] =
@@ -132,12 +133,30 @@ bool already_finished(const std::string& dir, const std::string& fingerprint, bo
   return true;
 }
 
+// The warnings listed in the summary of a finished result ("" for none, or
+// for a summary written before warnings were recorded).
+std::string finished_warnings(const std::string& dir) {
+  std::ifstream in(dir + "/summary.json");
+  const std::string key = "\"warnings\": [";
+  for (std::string line; std::getline(in, line);) {
+    const auto at = line.find(key);
+    if (at == std::string::npos) continue;
+    const auto from = at + key.size(), to = line.find(']', from);
+    std::string list = line.substr(from, to == std::string::npos ? to : to - from);
+    list.erase(std::remove(list.begin(), list.end(), '"'), list.end());
+    return list;
+  }
+  return {};
+}
+
 // sigma^[p] and E^[p]: from the calibration file of this lattice if there is
-// one, else by breaking the homogeneous lattice (and stored for next time).
+// one, else by breaking the homogeneous lattice (and stored for next time);
+// the warnings of a calibration run go to `warnings`.
 lem::Calibration calibrate(MPI_Comm comm, const lem::SampleOptions& sample,
                            const lem::SolverOptions& solver, double break_strain,
                            const lem::FractureOptions& options, std::string path,
-                           const lem::Provenance& provenance) {
+                           const lem::Provenance& provenance,
+                           std::vector<lem::RunWarning>& warnings) {
   lem::SampleOptions hom = sample;
   hom.homogeneous = true;
   lem::FractureOptions hom_options = options;
@@ -171,6 +190,7 @@ lem::Calibration calibrate(MPI_Comm comm, const lem::SampleOptions& sample,
   lem::say("calibration: the homogeneous lattice (every bond E^p = %g, sigma^p = %g)\n",
            sample.phases.modulus[0], sample.phases.strength[0]);
   const Case hom_case = run_case(std::move(p), solver, hom_options, provenance, false);
+  warnings = hom_case.result.warnings;
   lem::run_on_root(comm, [&] { lem::remove_checkpoint(hom_options.output_dir); });
   lem::Calibration c;
   c.sigma_hom = hom_case.result.peak_stress * hom_case.stress_unit;
@@ -250,6 +270,13 @@ int main(int argc, char** argv) {
     int finished = 0;
     lem::run_on_root(comm, [&] {
       finished = already_finished(dir, fingerprint, overwrite);
+      // The warning options are not part of the fingerprint: a result
+      // finished with warnings is refused under -fracture_strict.
+      if (finished && options.strict && !finished_warnings(dir).empty())
+        throw lem::NumericalError("output directory '" + dir + "' holds a finished result "
+                                  "with warnings (" + finished_warnings(dir) + "), an error "
+                                  "under -fracture_strict; pass -output_overwrite to compute "
+                                  "it again");
       // A run killed between its commit and the checkpoint's removal.
       if (finished) lem::remove_checkpoint(dir);
     });
@@ -275,9 +302,10 @@ int main(int argc, char** argv) {
 
     const double e_p = sample.phases.modulus[0], s_p = sample.phases.strength[0];
     double sigma_hom = 0, e_hom = 0;
+    std::vector<lem::RunWarning> calibration_warnings;
     if (calibrating) {
-      const lem::Calibration c =
-          calibrate(comm, sample, solver, break_strain, options, calibration_file, provenance);
+      const lem::Calibration c = calibrate(comm, sample, solver, break_strain, options,
+                                           calibration_file, provenance, calibration_warnings);
       sigma_hom = c.sigma_hom;
       e_hom = c.e_hom;
     }
@@ -304,6 +332,7 @@ int main(int argc, char** argv) {
     s.add("sigma_eff", s_eff, "stress");
     s.add("sigma_eff_over_sigma_unit", s_eff / options.strength_unit);
     s.add("strain_at_peak", r.strain_at_peak);
+    s.add("peak_step", static_cast<long long>(std::llround(r.peak_step)));
     s.add("final_strain", r.final_strain);
     s.add("final_stress_over_sigma_unit", r.final_stress * c.stress_unit / options.strength_unit);
     s.add("broken", static_cast<long long>(r.broken_total()));
@@ -338,6 +367,11 @@ int main(int argc, char** argv) {
     s.add("released_energy", r.released_energy, "lattice");
     s.add("energy_balance_error", r.energy_balance_error);
     s.add("end_reason", r.end_reason);
+    // Degradations (docs/fracture.md, "Warnings"): "code:count", the
+    // calibration's prefixed; an empty list for a sound run.
+    std::vector<std::string> warnings = lem::warning_words(calibration_warnings, "calibration_");
+    for (const auto& w : lem::warning_words(r.warnings)) warnings.push_back(w);
+    s.add("warnings", warnings);
     s.add("resumed", static_cast<long long>(r.resumed));
     s.add("seconds", r.seconds, "s");
     int ranks = 1;

@@ -23,6 +23,7 @@
 //   checkpoint.hpp            checkpoint file, fingerprint, stop signals
 //   recorder.hpp              curve.csv, broken.csv, snapshots, elastic fields
 //   progress.hpp              progress lines and the time-left estimate
+//   warnings.hpp              degraded results: said, recorded, errors under -fracture_strict
 // and run_fracture() (src/protocol/fracture.cpp) strings them together.
 #pragma once
 
@@ -31,9 +32,11 @@
 #include "lem/protocol/disorder.hpp"
 #include "lem/protocol/options.hpp"
 #include "lem/protocol/state.hpp"
+#include "lem/protocol/warnings.hpp"
 #include "lem/hdf5_writer.hpp"
 
 #include <string>
+#include <vector>
 
 namespace lem {
 
@@ -41,9 +44,11 @@ struct FractureResult : FractureTally {
   double final_stress = 0, final_strain = 0;
   double stored_energy = 0;
   double energy_balance_error = 0;  // |W - E - R| / W
+  double peak_step = 0;             // load step of the peak stress (strain / step strain)
   std::string end_reason;
   double seconds = 0;
   bool resumed = false;
+  std::vector<RunWarning> warnings;  // degradations seen (docs/fracture.md, "Warnings")
 };
 
 /// Runs the protocol on an assembled system.  Writes <output_dir>/curve.csv,

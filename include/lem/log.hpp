@@ -7,6 +7,8 @@ namespace lem {
 
 /// printf on rank 0 of PETSC_COMM_WORLD, flushed (progress lines).
 void say(const char* format, ...) __attribute__((format(printf, 1, 2)));
+/// The same on stderr (warnings: they must not drown in the progress lines).
+void say_warning(const char* format, ...) __attribute__((format(printf, 1, 2)));
 
 /// The PETSc log stage called `name`, registered on first use (collective
 /// the first time: every rank must ask for the same names in the same order).

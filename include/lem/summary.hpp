@@ -1,5 +1,6 @@
 // An ordered record of named results, written as JSON and as a one-row CSV
-// with units in the header.
+// with units in the header.  A list of words is a JSON array and one CSV cell
+// with the words separated by ';'.
 #pragma once
 
 #include <string>
@@ -10,7 +11,7 @@ namespace lem {
 
 class Summary {
  public:
-  using Value = std::variant<double, long long, std::string>;
+  using Value = std::variant<double, long long, std::string, std::vector<std::string>>;
   /// `unit` goes into the CSV header as name[unit]; empty for plain numbers.
   void add(const std::string& name, Value value, const std::string& unit = "");
   std::string json() const;

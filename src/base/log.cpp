@@ -9,15 +9,31 @@
 
 namespace lem {
 
-void say(const char* format, ...) {
+namespace {
+
+void print_on_root(std::FILE* stream, const char* format, va_list args) {
   int rank = 0;
   MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
   if (rank != 0) return;
+  std::fflush(stdout);  // keep the order of the two streams in a joint log
+  std::vfprintf(stream, format, args);
+  std::fflush(stream);
+}
+
+}  // namespace
+
+void say(const char* format, ...) {
   va_list args;
   va_start(args, format);
-  std::vfprintf(stdout, format, args);
+  print_on_root(stdout, format, args);
   va_end(args);
-  std::fflush(stdout);
+}
+
+void say_warning(const char* format, ...) {
+  va_list args;
+  va_start(args, format);
+  print_on_root(stderr, format, args);
+  va_end(args);
 }
 
 PetscLogStage log_stage(const char* name) {

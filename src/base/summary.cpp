@@ -30,6 +30,15 @@ std::string quoted(const std::string& s) {
 std::string text(const Summary::Value& v, bool json) {
   if (const auto* d = std::get_if<double>(&v)) return number(*d);
   if (const auto* i = std::get_if<long long>(&v)) return std::to_string(*i);
+  if (const auto* list = std::get_if<std::vector<std::string>>(&v)) {
+    std::string out = json ? "[" : "";
+    for (std::size_t k = 0; k < list->size(); ++k) {
+      if (k > 0) out += json ? ", " : ";";
+      out += json ? quoted((*list)[k]) : (*list)[k];
+    }
+    if (json) return out + "]";
+    return out.find_first_of(",\"\n") == std::string::npos ? out : quoted(out);
+  }
   const auto& s = std::get<std::string>(v);
   return json ? quoted(s) : (s.find_first_of(",\"\n") == std::string::npos ? s : quoted(s));
 }

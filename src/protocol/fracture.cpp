@@ -14,6 +14,7 @@
 #include "lem/protocol/progress.hpp"
 #include "lem/protocol/recorder.hpp"
 #include "lem/protocol/relaxation.hpp"
+#include "lem/protocol/warnings.hpp"
 #include "lem/options.hpp"
 
 #include <cmath>
@@ -40,7 +41,8 @@ class Protocol {
         recorder_(l, s, o, provenance), progress_(o),
         relaxation_(make_relaxation(RelaxationParts{l, s, o, critical_, ledger_, solver_,
                                                     recorder_, progress_, clock_, state_.tally})),
-        checkpoint_(l, checkpoint_path(o.output_dir), fracture_fingerprint(l, o)) {}
+        checkpoint_(l, checkpoint_path(o.output_dir), fracture_fingerprint(l, o)),
+        warnings_(o) {}
 
   FractureResult run();
 
@@ -70,6 +72,7 @@ class Protocol {
   ProgressReporter progress_;
   std::unique_ptr<Relaxation> relaxation_;
   CheckpointStore checkpoint_;
+  RunWarnings warnings_;
   bool disconnected_ = false;
   std::int64_t last_visit_ = 0;      // step of the previous evaluated step (snapshots)
   double last_checkpoint_time_ = 0;  // MPI_Wtime
@@ -135,6 +138,7 @@ void Protocol::visit(std::int64_t step, bool first) {
                       clock_.elapsed());
   recorder_.snapshot_if_due(step, last_visit_, r);
   last_visit_ = step;
+  warnings_.after_step(tally_);
 }
 
 void Protocol::hold_equilibrium() {
@@ -175,6 +179,7 @@ FractureResult Protocol::run() {
   if (resumed) {
     resume();
     recorder_.reopen(state_.files);
+    warnings_.resumed(tally_);
     say("resumed from %s at step %lld (%lld bonds broken)\n", checkpoint_.path().c_str(),
         (long long)tally_.steps, (long long)ledger_.history().bond_events.size());
   } else {
@@ -228,10 +233,6 @@ FractureResult Protocol::run() {
     }
   }
 
-  // Complete: move the logs into place; the caller commits the results and
-  // then drops the checkpoint.
-  recorder_.finish();
-
   const TensionResponse r = system_.response();
   FractureResult result;
   static_cast<FractureTally&>(result) = tally_;
@@ -242,6 +243,17 @@ FractureResult Protocol::run() {
       tally_.work > 0
           ? std::fabs(tally_.work - r.stored_energy - tally_.released_energy) / tally_.work
           : 0.0;
+  // Before the logs are renamed: under -fracture_strict a warning leaves no
+  // result that looks finished.
+  const bool past_peak =
+      !ledger_.history().bond_events.empty() && r.stress_zz < tally_.peak_stress;
+  result.peak_step = tally_.strain_at_peak / strain_of(1);
+  warnings_.at_end(tally_, result.energy_balance_error, result.peak_step, past_peak);
+  result.warnings = warnings_.list();
+
+  // Complete: move the logs into place; the caller commits the results and
+  // then drops the checkpoint.
+  recorder_.finish();
   result.end_reason = end;
   result.seconds = clock_.elapsed();
   result.resumed = resumed;

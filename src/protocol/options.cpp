@@ -78,6 +78,20 @@ FractureOptions read_fracture_options(MPI_Comm comm) {
         "computes every bond force, about one matrix product)", o.decision_interval, 1, 1000));
   }
   {
+    OptionGroup g(comm, "Warnings of a degraded result (docs/fracture.md, \"Warnings\")");
+    o.warn_energy_error = g.real(
+        "-fracture_warn_energy", "Warn when the energy balance error |W - E - R|/W at the end "
+        "exceeds this (converged runs: below 1e-5; a loose -ksp_rtol raises it; 0: no check)",
+        o.warn_energy_error, 0.0, 1.0);
+    o.warn_peak_steps = g.integer(
+        "-fracture_warn_peak_steps", "Warn when the peak stress is reached before this load "
+        "step: -fracture_increment is then too coarse to resolve the avalanche that ends the "
+        "rise (0: no check)", o.warn_peak_steps, 0, 1'000'000'000);
+    o.strict = g.flag("-fracture_strict", "Make every warning an error (exit 2): the energy "
+                      "balance, the peak steps, and the first solve that needs the fallback "
+                      "solver (-fallback_ksp_*)", o.strict);
+  }
+  {
     OptionGroup g(comm, "Threshold disorder (seeded; the same on any rank count)");
     o.disorder = g.choice<ThresholdDisorder>(
         "-strength_disorder", "Random factor on the breaking thresholds",

@@ -50,6 +50,13 @@ struct FractureOptions {
   double weibull_modulus = 6.0;      // weibull: mean-one Weibull factor
   std::uint64_t disorder_seed = 1;
   std::array<bool, kPhaseCount> disorder_phases{true, true, false, true, true};
+  // Warnings of a degraded result (docs/fracture.md, "Warnings"): an energy
+  // balance error above warn_energy_error, a peak reached before load step
+  // warn_peak_steps (0: either check off); strict makes every warning,
+  // the fallback solver's included, an error (exit 2).
+  double warn_energy_error = 1e-4;
+  std::int64_t warn_peak_steps = 10;
+  bool strict = false;
   // Checkpoints (0: never by that criterion); also on SIGTERM / SIGUSR1.
   std::int64_t checkpoint_steps = 0;
   double checkpoint_seconds = 600;
