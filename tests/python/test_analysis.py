@@ -108,3 +108,20 @@ def test_mid_plane_map_takes_the_nearest_node():
                                            np.ones(3), pixels=10)
     assert image.shape == (10, 10) and extent == (0.0, 1.0, 0.0, 1.0)
     assert np.all(image[:, :5] == -1.0) and np.all(image[:, 5:] == 1.0)
+
+
+def test_work_split_takes_differences_of_the_cumulative_counts_at_the_peak():
+    from lem_tools import work_split
+    # Steps 1-4; the peak at step 2; ruptures at steps 1, 2 and 4 (not 3).
+    curve = {"step": np.array([1.0, 2, 3, 4]), "strain": np.array([1e-4, 2e-4, 3e-4, 4e-4]),
+             "stress_before_norm": np.array([0.1, 0.2, 0.15, 0.1]),
+             "solves": np.array([2.0, 5, 5, 9]), "iterations": np.array([20.0, 80, 80, 200]),
+             "pc_builds": np.array([1.0, 1, 1, 2]), "elapsed_s": np.array([1.0, 2, 2.5, 4]),
+             "broken": np.array([3.0, 7, 7, 10])}
+    stages = work_split.split(curve, 2e-4)
+    assert stages["to the peak"] == {"solves": 5, "iterations": 80, "pc_builds": 1,
+                                     "elapsed_s": 2, "broken": 7, "evaluated_steps": 2,
+                                     "rupture_steps": 2}
+    assert stages["after the peak"] == {"solves": 4, "iterations": 120, "pc_builds": 1,
+                                        "elapsed_s": 2, "broken": 3, "evaluated_steps": 2,
+                                        "rupture_steps": 1}

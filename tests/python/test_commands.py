@@ -27,7 +27,7 @@ def test_the_scripts_are_there():
     assert [os.path.basename(s) for s in SCRIPTS] == [
         "plot_bridge_geometry.py", "plot_convergence.py", "plot_fracture.py",
         "plot_stiffness.py", "plot_stress.py", "plot_tension.py", "study.py",
-        "study_figures.py"]
+        "study_figures.py", "work_split.py"]
 
 
 @pytest.mark.parametrize("script", [os.path.basename(s) for s in SCRIPTS])
@@ -39,7 +39,7 @@ def test_help_exits_0(script):
 
 
 @pytest.mark.parametrize("script", ["plot_fracture.py", "plot_stress.py", "plot_tension.py",
-                                    "plot_stiffness.py", "plot_convergence.py"])
+                                    "plot_stiffness.py", "plot_convergence.py", "work_split.py"])
 def test_missing_results_give_one_error_line(script, tmp_path):
     done = run_script(script, str(tmp_path / "none"))
     assert done.returncode == 1
