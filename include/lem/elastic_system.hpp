@@ -142,6 +142,8 @@ class ElasticSystem {
   void assemble_rhs(double top_displacement);
   void update_ghosts() const;
   SolveReport attempt_solve(const EarlyStop* early);
+  struct ConvergenceTest;
+  void install_convergence_test();
   void create_fallback();
   SolveReport fallback_solve();
   Point local_displacement(const PetscScalar* u_local, int node) const;
@@ -152,6 +154,7 @@ class ElasticSystem {
   VecHandle b_;
   VecHandle u_start_;  // initial guess kept for a retry
   KspHandle ksp_;
+  ConvergenceTest* convergence_ = nullptr;  // owned by ksp_ (destroyed with it)
   KspHandle fallback_ksp_;  // CG + Jacobi, for solves the multigrid fails
   double diagonal_scale_ = 1.0;
   double ground_ = 0.0;  // diagonal added on free dofs (-lattice_ground_stiffness)

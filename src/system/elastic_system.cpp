@@ -104,6 +104,7 @@ ElasticSystem::ElasticSystem(DistributedLattice& lattice, const SolverOptions& o
   LEM_PETSC(KSPSetInitialGuessNonzero(ksp_, PETSC_TRUE));
   apply_solver_defaults(ksp_);
   LEM_PETSC(KSPSetFromOptions(ksp_));
+  install_convergence_test();
   create_fallback();  // now, so that its -fallback_* options count as used
   stage.pop();
 }
@@ -264,43 +265,57 @@ SolveReport ElasticSystem::solve(double top_displacement, const EarlyStop* early
   return report;
 }
 
-namespace {
-// KSP's default test, then the caller's EarlyStop every `interval`
+// The KSP's own convergence test (as configured by KSPSetFromOptions), then,
+// during a solve given an EarlyStop, that test every `interval`
 // iterations.  The iterate of CG is the solution vector itself, updated in
 // place, so the test sees it after a ghost update.  Exceptions cannot cross
-// PETSc's C frames: they are kept and rethrown after KSPSolve.
-struct EarlyStopContext {
-  void* default_context = nullptr;
-  const EarlyStop* early = nullptr;
-  std::function<void()> make_current;
+// PETSc's C frames: they are kept and rethrown after KSPSolve.  Installed
+// once at construction; the KSP owns it.
+struct ElasticSystem::ConvergenceTest {
+  using Fn = PetscErrorCode (*)(KSP, PetscInt, PetscReal, KSPConvergedReason*, void*);
+  Fn inner = nullptr;
+  void* inner_context = nullptr;
+  PetscErrorCode (*inner_destroy)(void*) = nullptr;
+  ElasticSystem* system = nullptr;
+  const EarlyStop* early = nullptr;  // set for one solve
   bool stopped = false;
   std::exception_ptr error;
+
+  static PetscErrorCode test(KSP ksp, PetscInt it, PetscReal rnorm, KSPConvergedReason* reason,
+                             void* ctx) {
+    PetscFunctionBeginUser;
+    auto* c = static_cast<ConvergenceTest*>(ctx);
+    PetscCall(c->inner(ksp, it, rnorm, reason, c->inner_context));
+    if (!c->early || *reason != KSP_CONVERGED_ITERATING || it == 0 ||
+        it % c->early->interval != 0)
+      PetscFunctionReturn(0);
+    try {
+      c->system->update_ghosts();
+      if (c->early->decided()) {
+        c->stopped = true;
+        *reason = KSP_CONVERGED_ITS;
+      }
+    } catch (...) {
+      c->error = std::current_exception();
+      *reason = KSP_DIVERGED_BREAKDOWN;
+    }
+    PetscFunctionReturn(0);
+  }
+  static PetscErrorCode destroy(void* ctx) {
+    auto* c = static_cast<ConvergenceTest*>(ctx);
+    const PetscErrorCode ierr = c->inner_destroy ? c->inner_destroy(c->inner_context) : 0;
+    delete c;
+    return ierr;
+  }
 };
 
-PetscErrorCode early_stop_test(KSP ksp, PetscInt it, PetscReal rnorm,
-                               KSPConvergedReason* reason, void* ctx) {
-  PetscFunctionBeginUser;
-  auto* c = static_cast<EarlyStopContext*>(ctx);
-  PetscCall(KSPConvergedDefault(ksp, it, rnorm, reason, c->default_context));
-  if (*reason != KSP_CONVERGED_ITERATING || it == 0 || it % c->early->interval != 0)
-    PetscFunctionReturn(0);
-  try {
-    c->make_current();
-    if (c->early->decided()) {
-      c->stopped = true;
-      *reason = KSP_CONVERGED_ITS;
-    }
-  } catch (...) {
-    c->error = std::current_exception();
-    *reason = KSP_DIVERGED_BREAKDOWN;
-  }
-  PetscFunctionReturn(0);
+void ElasticSystem::install_convergence_test() {
+  auto* c = new ConvergenceTest;
+  c->system = this;
+  LEM_PETSC(KSPGetAndClearConvergenceTest(ksp_, &c->inner, &c->inner_context, &c->inner_destroy));
+  LEM_PETSC(KSPSetConvergenceTest(ksp_, ConvergenceTest::test, c, ConvergenceTest::destroy));
+  convergence_ = c;
 }
-
-PetscErrorCode destroy_default_context(void* ctx) {
-  return KSPConvergedDefaultDestroy(ctx);
-}
-}  // namespace
 
 SolveReport ElasticSystem::attempt_solve(const EarlyStop* early) {
   const Stages& stages = log_stages();
@@ -317,27 +332,17 @@ SolveReport ElasticSystem::attempt_solve(const EarlyStop* early) {
   report.setup_seconds = MPI_Wtime() - t0;
   t0 = MPI_Wtime();
   LogStageScope solve_stage(stages.solve);
+  // Only CG's iterate is the solution vector during the solve.
   PetscBool cg = PETSC_FALSE;
   LEM_PETSC(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(ksp_.get()), KSPCG, &cg));
-  EarlyStopContext context;
-  if (early && cg) {
-    // Installed for this solve only (KSPSetConvergenceTest destroys the
-    // previous context), then the plain default test again.
-    LEM_PETSC(KSPConvergedDefaultCreate(&context.default_context));
-    context.early = early;
-    context.make_current = [this] { update_ghosts(); };
-    LEM_PETSC(KSPSetConvergenceTest(ksp_, early_stop_test, &context, nullptr));
-  }
+  convergence_->early = cg ? early : nullptr;
+  convergence_->stopped = false;
+  convergence_->error = nullptr;
   const PetscErrorCode solved = KSPSolve(ksp_, b_, u_);
-  if (context.early) {
-    void* plain = nullptr;
-    LEM_PETSC(KSPConvergedDefaultCreate(&plain));
-    LEM_PETSC(KSPSetConvergenceTest(ksp_, KSPConvergedDefault, plain, destroy_default_context));
-    LEM_PETSC(KSPConvergedDefaultDestroy(context.default_context));
-  }
-  if (context.error) std::rethrow_exception(context.error);
+  convergence_->early = nullptr;
+  if (convergence_->error) std::rethrow_exception(convergence_->error);
   LEM_PETSC(solved);
-  report.stopped_early = context.stopped;
+  report.stopped_early = convergence_->stopped;
   solve_stage.pop();
   report.solve_seconds = MPI_Wtime() - t0;
   PetscInt its = 0;

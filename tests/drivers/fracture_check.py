@@ -50,6 +50,9 @@ class Checker:
     def at_most(self, name, value, bound):
         self._line(value <= bound, name, f"{value:.3g}", f"<= {bound:g}", "bound")
 
+    def at_least(self, name, value, bound):
+        self._line(value >= bound, name, f"{value:.3g}", f">= {bound:g}", "bound")
+
     def _line(self, ok, name, got, want, how):
         print(f"{'ok  ' if ok else 'FAIL'} {name:32s} {got:>20s}  expected {want:>20s}  ({how})")
         if not ok:
@@ -217,6 +220,8 @@ def gold(a):
         check.equal(k, s[k], want[k])
     for k, t in tol["relative"].items():
         check.close(k, s[k], want[k], rtol=t)
+    for k, least in tol.get("at_least", {}).items():  # the scheme under test did its work
+        check.at_least(k, s.get(k, 0), least)
     for k, t in tol.get("absolute", {}).items():
         check.close(k, s[k], want[k], atol=t)
     for k, t in tol["counts"].items():

@@ -52,6 +52,15 @@ std::vector<std::int64_t> global_bond_ids(const DistributedLattice& l, Keep keep
   return all;
 }
 
+// The 4x4x4-cell FCC block (k = 1) with f = k_b a eps_b, as lem_fracture
+// gives a generated lattice (face and edge bonds have a share of k, and of f).
+DistributedLattice fcc_with_break_strain(double a, double eps_b) {
+  DistributedLattice l = make_problem([&] { return make_fcc_lattice({4, 4, 4}, a, 1.0); });
+  l.bond_strength.resize(l.bond_stiffness.size());
+  for (int b = 0; b < l.local_bonds(); ++b) l.bond_strength[b] = l.bond_stiffness[b] * a * eps_b;
+  return l;
+}
+
 }  // namespace
 
 // Uniaxial tension of a central-force FCC lattice is affine with nu = 1/3:
@@ -59,12 +68,8 @@ std::vector<std::int64_t> global_bond_ids(const DistributedLattice& l, Keep keep
 // one in the xy plane shortens.  With f = k a eps_b every inclined bond is
 // critical once eps > 3 eps_b, and none before.
 TEST_F(FractureParts, FccCriticalBondsAreTheInclinedOnes) {
-  const double k = 1.0, a = 1.0, eps_b = 1.05e-3;
-  DistributedLattice l = make_problem([&] { return make_fcc_lattice({4, 4, 4}, a, k); });
-  // f = k_b a eps_b, as lem_fracture gives a generated lattice (face and
-  // edge bonds have a share of k, and of f).
-  l.bond_strength.resize(l.bond_stiffness.size());
-  for (int b = 0; b < l.local_bonds(); ++b) l.bond_strength[b] = l.bond_stiffness[b] * a * eps_b;
+  const double a = 1.0, eps_b = 1.05e-3;
+  DistributedLattice l = fcc_with_break_strain(a, eps_b);
   ElasticSystem system(l, exact);
   system.assemble();
   const auto inclined = global_bond_ids(l, [&](int b) {
@@ -103,10 +108,8 @@ TEST_F(FractureParts, FccCriticalBondsAreTheInclinedOnes) {
 // times their threshold, with errors (safety times the change since the
 // earlier iterate) below and above the 3 % margin.
 TEST_F(FractureParts, DecidedBatchNeedsEveryBondOutsideItsError) {
-  const double k = 1.0, a = 1.0, eps_b = 1.05e-3;
-  DistributedLattice l = make_problem([&] { return make_fcc_lattice({4, 4, 4}, a, k); });
-  l.bond_strength.resize(l.bond_stiffness.size());
-  for (int b = 0; b < l.local_bonds(); ++b) l.bond_strength[b] = l.bond_stiffness[b] * a * eps_b;
+  const double a = 1.0, eps_b = 1.05e-3;
+  DistributedLattice l = fcc_with_break_strain(a, eps_b);
   ElasticSystem system(l, exact);
   system.assemble();
   CriticalBonds all(l, BreakRule::all), one(l, BreakRule::most_critical);
