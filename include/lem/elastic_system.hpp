@@ -144,6 +144,7 @@ class ElasticSystem {
   SolveReport attempt_solve(const EarlyStop* early);
   struct ConvergenceTest;
   void install_convergence_test();
+  void set_up_preconditioner();  // from the current K, now
   void create_fallback();
   SolveReport fallback_solve();
   Point local_displacement(const PetscScalar* u_local, int node) const;
@@ -164,6 +165,7 @@ class ElasticSystem {
   bool reuse_pc_ = false;  // keep the preconditioner when K changes
   bool pc_stale_ = false;  // the next solve must build a fresh preconditioner
   bool pc_ready_ = false;  // a preconditioner has been built
+  std::int64_t solves_ = 0;  // by this process (test hook LEM_FAULT_SOLVE_FAIL)
 };
 
 }  // namespace lem

@@ -8,11 +8,20 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <stdexcept>
 #include <string>
 
 namespace lem {
 namespace {
+
+// Test hook: LEM_FAULT_SOLVE_FAIL=N makes the N-th solve of the process fail
+// as one that neither solver finishes would (tests of that path; a cap on
+// the iterations cannot place the failure after the first solve).
+bool injected_failure(std::int64_t solve) {
+  const char* wanted = std::getenv("LEM_FAULT_SOLVE_FAIL");
+  return wanted && std::strtoll(wanted, nullptr, 10) == solve;
+}
 
 struct Stages {
   PetscLogStage assembly, pc_setup, solve;
@@ -248,6 +257,9 @@ SolveReport ElasticSystem::solve(double top_displacement, const EarlyStop* early
   }
   report.iterations += failed_iterations;
   report.preconditioner_built = built;
+  if (injected_failure(++solves_))
+    throw NumericalError("linear solve did not converge: failure injected by "
+                         "LEM_FAULT_SOLVE_FAIL at solve " + std::to_string(solves_));
   if (report.reason < 0 || !std::isfinite(report.residual_norm)) {
     std::string hint;
     if (report.reason == KSP_DIVERGED_INDEFINITE_PC || report.reason == KSP_DIVERGED_INDEFINITE_MAT)
@@ -321,13 +333,16 @@ SolveReport ElasticSystem::attempt_solve(const EarlyStop* early) {
   const Stages& stages = log_stages();
   SolveReport report;
   double t0 = MPI_Wtime();
-  report.preconditioner_built = !pc_ready_ || pc_stale_ || (operator_changed_ && !reuse_pc_);
-  pc_ready_ = true;
+  const bool fresh = pc_stale_ || (operator_changed_ && !reuse_pc_);
+  report.preconditioner_built = !pc_ready_ || fresh;
   LogStageScope pc_stage(stages.pc_setup);
-  if (pc_stale_) LEM_PETSC(KSPSetReusePreconditioner(ksp_, PETSC_FALSE));
-  LEM_PETSC(KSPSetUp(ksp_));
-  if (pc_stale_ && reuse_pc_) LEM_PETSC(KSPSetReusePreconditioner(ksp_, PETSC_TRUE));
-  pc_stale_ = false;
+  if (pc_ready_ && fresh) {
+    set_up_preconditioner();
+  } else {
+    LEM_PETSC(KSPSetUp(ksp_));
+    pc_stale_ = false;
+  }
+  pc_ready_ = true;
   pc_stage.pop();
   report.setup_seconds = MPI_Wtime() - t0;
   t0 = MPI_Wtime();
@@ -396,12 +411,20 @@ void ElasticSystem::rebuild_preconditioner() { pc_stale_ = true; }
 
 void ElasticSystem::build_preconditioner() {
   LogStageScope stage(log_stages().pc_setup);
+  set_up_preconditioner();
+  stage.pop();
+  pc_ready_ = true;
+}
+
+// KSPSetUp sets the preconditioner up again only for operators given since
+// the last set-up (KSPSetOperators); K is changed in place, so hand it over
+// again, or the preconditioner of the first solve would stay forever.
+void ElasticSystem::set_up_preconditioner() {
+  LEM_PETSC(KSPSetOperators(ksp_, K_, K_));
   LEM_PETSC(KSPSetReusePreconditioner(ksp_, PETSC_FALSE));
   LEM_PETSC(KSPSetUp(ksp_));
   LEM_PETSC(KSPSetReusePreconditioner(ksp_, reuse_pc_ ? PETSC_TRUE : PETSC_FALSE));
-  stage.pop();
   pc_stale_ = false;
-  pc_ready_ = true;
 }
 
 void ElasticSystem::rescale(double top_displacement) {

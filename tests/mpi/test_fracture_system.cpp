@@ -3,6 +3,7 @@
 // at which one breaks, and the damage ledger's replay.  Runs at 1 and 2
 // ranks: every answer must be the same on both.
 #include "lem/collective.hpp"
+#include "lem/error.hpp"
 #include "lem/elastic_system.hpp"
 #include "lem/protocol/break_rule.hpp"
 #include "lem/protocol/damage_ledger.hpp"
@@ -11,6 +12,7 @@
 #include "../exact_solver_test.hpp"
 
 #include <gtest/gtest.h>
+#include <petscksp.h>
 
 #include <algorithm>
 #include <cmath>
@@ -230,6 +232,58 @@ TEST_F(FractureParts, LedgerReplayRebuildsTheSameSystem) {
   EXPECT_LT(gap, 1e-9 * scale);
   EXPECT_NEAR(sa.response().stress_zz, sb.response().stress_zz,
               1e-9 * std::fabs(sa.response().stress_zz));
+}
+
+// K is changed in place as bonds break; a rebuild must set the multigrid up
+// from the K of that moment (its coarsest operator then equals that of a
+// system built fresh on the damaged lattice), while a kept preconditioner
+// must stay as it was.  PETSc only sets a KSP up again for operators handed
+// over again, which the fracture runs once missed: every "rebuild" kept the
+// first multigrid.
+TEST_F(FractureParts, RebuildSetsTheMultigridUpFromTheCurrentK) {
+  auto build = [] { return random_lattice(4000, 5); };
+  auto coarse_operator_norm = [](const ElasticSystem& s) {
+    PC pc;
+    KSP coarse;
+    Mat a;
+    PetscReal norm = 0;
+    LEM_PETSC(KSPGetPC(s.ksp(), &pc));
+    LEM_PETSC(PCMGGetCoarseSolve(pc, &coarse));
+    LEM_PETSC(KSPGetOperators(coarse, &a, nullptr));
+    LEM_PETSC(MatNorm(a, NORM_FROBENIUS, &norm));
+    return static_cast<double>(norm);
+  };
+  DistributedLattice la = make_problem(build), lb = make_problem(build);
+  const auto ids = global_bond_ids(la, [](int) { return true; });
+  std::vector<std::int64_t> broken;
+  for (std::size_t i = 0; i < ids.size(); i += 10) broken.push_back(ids[i]);
+
+  const SolverOptions grounded{};  // a kept preconditioner must not fail
+  ElasticSystem kept(la, grounded);
+  kept.assemble();
+  kept.set_reuse_preconditioner(true);
+  kept.solve(1e-3);
+  const double intact = coarse_operator_norm(kept);
+  DamageLedger ledger(la, kept);
+  ledger.open_batch();
+  ledger.break_bonds(broken);
+  kept.finish_updates();
+  kept.solve(1e-3);
+  EXPECT_EQ(coarse_operator_norm(kept), intact);  // kept as built
+
+  ElasticSystem fresh(lb, grounded);
+  fresh.assemble();
+  DamageLedger fresh_ledger(lb, fresh);
+  fresh_ledger.open_batch();
+  fresh_ledger.break_bonds(broken);
+  fresh.finish_updates();
+  fresh.solve(1e-3);
+  const double damaged = coarse_operator_norm(fresh);
+  EXPECT_GT(std::fabs(damaged - intact), 1e-3 * intact);  // K did change
+
+  kept.rebuild_preconditioner();
+  kept.solve(1e-3);
+  EXPECT_NEAR(coarse_operator_norm(kept), damaged, 1e-12 * damaged);
 }
 
 // A patch solve around a few broken bonds approaches the global

@@ -43,7 +43,7 @@ struct FractureOptions {
   double decision_safety = 0;
   int decision_interval = 4;
   std::int64_t rebuild_after_ruptures = 2000;  // 0: never by count
-  double rebuild_iteration_growth = 2.5;       // 0: never by iterations
+  double rebuild_iteration_growth = 1.5;       // 0: never by iterations
   // Threshold disorder: f *= factor(seed, bond id) for the phases listed.
   ThresholdDisorder disorder = ThresholdDisorder::none;
   double disorder_width = 0.0;       // uniform: factor in [1 - w, 1 + w]

@@ -16,7 +16,7 @@ namespace lem {
 /// The rules alone (no system): each returns true when a rebuild is due.
 struct RebuildRule {
   std::int64_t after_ruptures = 2000;  // 0: never by count
-  double iteration_growth = 2.5;       // 0: never by iterations
+  double iteration_growth = 1.5;       // 0: never by iterations
   bool after_new_ruptures(PreconditionerState& s, std::int64_t ruptures) const;
   bool after_solve(PreconditionerState& s, int iterations, bool built, bool relaxation) const;
 };
