@@ -456,14 +456,23 @@ void read_petsc_options(const std::function<void()>& read) {
         word += c;
       }
     }
-    std::string named;
+    // Failing that, the options given without a value (-pc_gamg_type alone).
+    std::string named, bare;
+    int bare_count = 0;
     for (const auto& [option, value] : database()) {
       const OptionRecord* ours = find_record(option);  // parsed by OptionGroup, unless PETSc's
-      if (value.empty() || (ours && !ours->petsc_default)) continue;
-      if (std::find(words.begin(), words.end(), lower(value)) == words.end()) continue;
-      named += (named.empty() ? "" : ", ") + option + " = '" + value + "'";
+      if (ours && !ours->petsc_default) continue;
+      if (value.empty()) {
+        bare += (bare.empty() ? "" : ", ") + option;
+        ++bare_count;
+      } else if (std::find(words.begin(), words.end(), lower(value)) != words.end()) {
+        named += (named.empty() ? "option " : ", ") + option + " = '" + value + "'";
+      }
     }
-    throw InputError((named.empty() ? std::string("a solver option") : "option " + named) +
+    if (named.empty() && bare_count == 1) named = "option " + bare + ", given without a value,";
+    if (named.empty() && bare_count > 1)
+      named = "one of the options given without a value (" + bare + ")";
+    throw InputError((named.empty() ? std::string("a solver option") : named) +
                      " is rejected by PETSc: " + message);
   }
 }
