@@ -87,4 +87,41 @@ void run_collectively(MPI_Comm comm, const std::function<void()>& work);
 /// errors, so that serial stages (generation, partitioning) fail together.
 void run_on_root(MPI_Comm comm, const std::function<void()>& work);
 
+/// Call once PETSc is initialised (run_driver does): from then on PETSc's
+/// errors come here instead of to its trace-back handler.  The first message
+/// of an error and where it arose are kept for the PetscFailure that follows
+/// (its what()); nothing is printed, so the error is reported once, by the
+/// driver.  PETSc's own handler prints the trace on the communicator's first
+/// rank and makes every other rank sleep 10 s and exit without finalising
+/// MPI ("exiting improperly").  Left alone if an -on_error_* option asks for
+/// PETSc's behaviour (abort, debugger).
+void take_over_petsc_errors();
+
+/// How a driver ends on every rank (run_driver).  Created at start-up
+/// (collective: it duplicates `comm`, so that ending never mixes with the
+/// collective operations of the work); finish() is then called by every
+/// rank with its outcome (0 and "" on success).  The ranks wait for each
+/// other on that communicator, rank 0 prints the error of the lowest failing
+/// rank once ("<kind>: <message>"), and every rank returns that status.  A
+/// rank that failed alone while the others wait in some collective
+/// operation of the work (an error they cannot see) does not wait for ever:
+/// after kGraceSeconds it prints its message itself and ends the whole job
+/// with MPI_Abort and its status.
+class RankEnds {
+ public:
+  static constexpr double kGraceSeconds = 3;
+  explicit RankEnds(MPI_Comm comm);
+  ~RankEnds();
+  RankEnds(const RankEnds&) = delete;
+  RankEnds& operator=(const RankEnds&) = delete;
+  int finish(int status, const std::string& message);
+
+ private:
+  MPI_Comm comm_ = MPI_COMM_NULL;
+};
+
+/// "error", "numerical failure", "interrupted" or "failure": how a driver
+/// labels an exit status of 1, 2, 4 or another.
+const char* status_label(int status);
+
 }  // namespace lem

@@ -12,6 +12,7 @@
 #include <petscsys.h>
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -77,14 +78,21 @@ class OptionGroup {
  private:
   std::size_t choice_index(const char* name, const char* help,
                            const std::vector<std::string>& words, std::size_t def_index);
-  // The option's text if it was given (PETSc marks it used).
-  bool lookup(const char* name, std::string& text) const;
+  // The option's text if it was given (PETSc marks it used).  With a help
+  // string the option needs a value: "-name" alone or an empty value is an
+  // InputError naming it; flags pass none (a bare -name means true).
+  bool lookup(const char* name, std::string& text, const char* help) const;
   void record(const char* name, const char* help, std::string def, const std::string& text,
               bool given, bool petsc_default = false);
 
   MPI_Comm comm_;
   std::string title_;
 };
+
+/// Before PETSc starts: the first -options_file / -options_file_yaml of the
+/// command line that names no readable file, as an error message naming it
+/// ("" if there is none).  PETSc itself would fail with a trace.
+std::string unreadable_options_file(int argc, char** argv);
 
 /// Before any work: every option in the database must be one the program
 /// has read (registered) or one under a prefix that PETSc consumes (-ksp_*,
@@ -98,6 +106,22 @@ void check_option_names(MPI_Comm comm);
 /// `types` (e.g. KSPList): checked before any work instead of failing in
 /// KSPSetFromOptions.  Does not mark the option used.
 void check_type_option(const char* name, PetscFunctionList types, const char* kind);
+
+/// Run `read`, a call through which PETSc objects read their options
+/// (KSPSetFromOptions, MatSetFromOptions, ...).  PETSc fails there only on a
+/// value it cannot take (-ksp_rtol abc, -ksp_max_it 1.5): that failure is
+/// rethrown as InputError naming the option(s) whose value PETSc's message
+/// quotes, with that message.
+void read_petsc_options(const std::function<void()>& read);
+
+/// PETSc ignores a numeric option given without its value (-ksp_rtol alone
+/// runs with the default).  `read` reads the options as the solver objects
+/// do (through read_petsc_options); it is run once more for each -ksp_*,
+/// -pc_* or -fallback_* option given bare, with a value that no PETSc
+/// parser takes: if PETSc then asks for a number or one of a list of words,
+/// the option is an InputError "given without a value".  Flags and viewers
+/// (-ksp_monitor, -ksp_view) stay valid bare.
+void check_bare_petsc_options(const std::function<void()>& read);
 
 /// When the check of PETSc's options runs.
 enum class SolverStage {

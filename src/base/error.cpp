@@ -2,14 +2,68 @@
 
 #include "lem/collective.hpp"
 
+#include <cctype>
+#include <chrono>
+#include <cstdio>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace lem {
 
+namespace {
+
+// PETSc's message of the error being raised (take_over_petsc_errors), until
+// a PetscFailure takes it.
+std::string& petsc_message() {
+  static std::string text;
+  return text;
+}
+
+PetscErrorCode keep_petsc_message(MPI_Comm, int line, const char* function, const char* file,
+                                  PetscErrorCode code, PetscErrorType type, const char* message,
+                                  void*) {
+  // Later calls are the same error passing up through the callers.
+  if (type == PETSC_ERROR_REPEAT) return code;
+  const char* generic = nullptr;
+  PetscErrorMessage(code, &generic, nullptr);
+  std::string text = generic ? generic : "";
+  // One line: PETSc's messages may run over several, indented.
+  std::string words;
+  for (const char* c = message ? message : ""; *c; ++c) {
+    const bool blank = std::isspace(static_cast<unsigned char>(*c)) != 0;
+    if (blank && (words.empty() || words.back() == ' ')) continue;
+    words += blank ? ' ' : *c;
+  }
+  while (!words.empty() && words.back() == ' ') words.pop_back();
+  if (!words.empty()) text += (text.empty() ? "" : ": ") + words;
+  text += std::string(" (") + (function ? function : "?") + "() at " + (file ? file : "?") + ":" +
+          std::to_string(line) + ")";
+  petsc_message() = text;
+  return code;
+}
+
+std::string taken_petsc_message() {
+  std::string text;
+  text.swap(petsc_message());
+  return text.empty() ? text : ": " + text;
+}
+
+}  // namespace
+
 PetscFailure::PetscFailure(const char* call, PetscErrorCode code)
-    : std::runtime_error(std::string("PETSc error ") + std::to_string(code) + " in " + call) {}
+    : std::runtime_error(std::string("PETSc error ") + std::to_string(code) + " in " + call +
+                         taken_petsc_message()) {}
+
+void take_over_petsc_errors() {
+  for (const char* name : {"-on_error_abort", "-on_error_attach_debugger", "-on_error_emacs",
+                           "-start_in_debugger"}) {
+    PetscBool set = PETSC_FALSE;
+    if (PetscOptionsHasName(nullptr, nullptr, name, &set) == 0 && set) return;
+  }
+  PetscPushErrorHandler(keep_petsc_message, nullptr);
+}
 
 namespace {
 
@@ -109,6 +163,56 @@ void run_on_root(MPI_Comm comm, const std::function<void()>& work) {
   run_collectively(comm, [&] {
     if (rank == 0) work();
   });
+}
+
+const char* status_label(int status) {
+  switch (status) {
+    case 1: return "error";
+    case 2: return "numerical failure";
+    case 4: return "interrupted";
+    default: return "failure";
+  }
+}
+
+RankEnds::RankEnds(MPI_Comm comm) { MPI_Comm_dup(comm, &comm_); }
+
+RankEnds::~RankEnds() {
+  if (comm_ != MPI_COMM_NULL) MPI_Comm_free(&comm_);
+}
+
+int RankEnds::finish(int status, const std::string& message) {
+  int rank = 0, ranks = 1;
+  MPI_Comm_rank(comm_, &rank);
+  MPI_Comm_size(comm_, &ranks);
+  MPI_Request arrived = MPI_REQUEST_NULL;
+  MPI_Ibarrier(comm_, &arrived);
+  const double start = MPI_Wtime();
+  for (int done = 0;;) {
+    MPI_Test(&arrived, &done, MPI_STATUS_IGNORE);
+    if (done) break;
+    // A rank that succeeded waits: a failed one ends the job in time.
+    if (status != 0 && MPI_Wtime() - start > kGraceSeconds) {
+      std::fprintf(stderr, "%s on rank %d (the other ranks did not stop; ending them): %s\n",
+                   status_label(status), rank, message.c_str());
+      std::fflush(stderr);
+      MPI_Abort(MPI_COMM_WORLD, status);
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  // Every rank is here: the outcome of the lowest failing one.
+  const int mine = status != 0 ? rank : ranks;
+  int first = ranks;
+  MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, comm_);
+  if (first == ranks) return 0;
+  int agreed = status;
+  broadcast_value(comm_, agreed, first);
+  const std::string text = broadcast_string(comm_, message, first);
+  if (rank == 0) {
+    std::fflush(stdout);
+    std::fprintf(stderr, "%s: %s\n", status_label(agreed), text.c_str());
+    std::fflush(stderr);
+  }
+  return agreed;
 }
 
 }  // namespace lem

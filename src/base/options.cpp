@@ -4,9 +4,11 @@
 
 #include <algorithm>
 #include <cctype>
-#include <cerrno>
+#include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <sstream>
 
 namespace lem {
@@ -43,13 +45,26 @@ std::string describe_range(double lo, double hi, bool open_lo, bool open_hi) {
   return s.str();
 }
 
-// A whole string as a real number (strtod also takes inf and nan; the range
-// checks reject them).
+// std::from_chars over the whole of `text`: decimal digits (reals also in
+// scientific notation, inf, nan), one optional sign, nothing else — no hex,
+// no blanks, no trailing characters.
+template <class T>
+bool parse_whole(const std::string& text, T& value, std::errc& error) {
+  const char* first = text.data();
+  const char* const last = first + text.size();
+  if (first != last && *first == '+' && ++first != last && *first == '-') return false;
+  const auto result = std::from_chars(first, last, value);
+  error = result.ec;
+  return first != last && result.ptr == last;
+}
+
+// A whole string as a real number (inf and nan parse; range checks reject
+// them).  Beyond the range of a double it reads as +-inf or 0, as strtod has it.
 bool parse_real(const std::string& text, double& value) {
-  if (text.empty()) return false;
-  char* end = nullptr;
-  value = std::strtod(text.c_str(), &end);
-  return end != text.c_str() && *end == '\0';
+  std::errc error{};
+  if (!parse_whole(text, value, error)) return false;
+  if (error == std::errc::result_out_of_range) value = std::strtod(text.c_str(), nullptr);
+  return error == std::errc() || error == std::errc::result_out_of_range;
 }
 
 // Prefixes of options that PETSc itself (or MPI start-up) may consume; they
@@ -199,11 +214,15 @@ const std::vector<OptionRecord>& registered_options() { return registry(); }
 
 OptionGroup::OptionGroup(MPI_Comm comm, const char* title) : comm_(comm), title_(title) {}
 
-bool OptionGroup::lookup(const char* name, std::string& text) const {
-  char buffer[PETSC_MAX_PATH_LEN] = "";
+bool OptionGroup::lookup(const char* name, std::string& text, const char* help) const {
+  // FindPair tells "-name" alone (a null value) from "-name value"; the
+  // string getters would give "" for both.
+  const char* value = nullptr;
   PetscBool set = PETSC_FALSE;
-  LEM_PETSC(PetscOptionsGetString(nullptr, nullptr, name, buffer, sizeof buffer, &set));
-  text = set ? buffer : "";
+  LEM_PETSC(PetscOptionsFindPair(nullptr, nullptr, name, &value, &set));
+  text = set && value ? value : "";
+  if (set && help && text.empty())
+    throw InputError("option " + std::string(name) + " is given without a value (" + help + ")");
   return set == PETSC_TRUE;
 }
 
@@ -220,7 +239,7 @@ void OptionGroup::record(const char* name, const char* help, std::string def,
 double OptionGroup::real(const char* name, const char* help, double def, double lo, double hi,
                          bool open_lo, bool open_hi) {
   std::string text;
-  const bool set = lookup(name, text);
+  const bool set = lookup(name, text, help);
   record(name, help, text_of(def), text, set);
   double value = def;
   if (set && !parse_real(text, value))
@@ -240,7 +259,7 @@ double OptionGroup::real(const char* name, const char* help, double def, double 
 std::int64_t OptionGroup::integer(const char* name, const char* help, std::int64_t def,
                                   std::int64_t lo, std::int64_t hi) {
   std::string text;
-  const bool set = lookup(name, text);
+  const bool set = lookup(name, text, help);
   record(name, help, std::to_string(def), text, set);
   if (!set) return def;
   const std::string allowed = "allowed [" + std::to_string(lo) + ", " + std::to_string(hi) +
@@ -248,28 +267,27 @@ std::int64_t OptionGroup::integer(const char* name, const char* help, std::int64
   const std::string given = "option " + std::string(name) + " = ";
   // Plain integers first; failing that, a real with an integer value
   // ("1e6"), so that a huge value is out of range instead of wrapping.
-  errno = 0;
-  char* end = nullptr;
-  const long long parsed = std::strtoll(text.c_str(), &end, 10);
-  std::int64_t value = parsed;
-  if (text.empty() || end == text.c_str() || *end != '\0' || errno == ERANGE) {
+  std::int64_t value = 0;
+  std::errc error{};
+  if (!parse_whole(text, value, error) || error != std::errc()) {
     double real = 0;
     if (!parse_real(text, real))
       throw InputError(given + "'" + text + "' is not a number: " + allowed);
     if (std::isfinite(real) && real != std::floor(real))
       throw InputError(given + "'" + text + "' is not an integer: " + allowed);
-    if (!(real >= static_cast<double>(lo) && real <= static_cast<double>(hi)))
+    // 2^63 itself does not fit: compare before converting.
+    if (!(real >= static_cast<double>(lo) && real <= static_cast<double>(hi) && real < 0x1p63))
       throw InputError(given + text + " is out of range: " + allowed);
     value = static_cast<std::int64_t>(real);
   }
   if (value < lo || value > hi)
-    throw InputError(given + std::to_string(value) + " is out of range: " + allowed);
+    throw InputError(given + text + " is out of range: " + allowed);
   return value;
 }
 
 bool OptionGroup::flag(const char* name, const char* help, bool def) {
   std::string text;
-  const bool set = lookup(name, text);
+  const bool set = lookup(name, text, nullptr);  // a bare -name means true
   record(name, help, def ? "true" : "false", text, set);
   if (!set) return def;
   const std::string word = lower(text);
@@ -284,7 +302,7 @@ bool OptionGroup::flag(const char* name, const char* help, bool def) {
 
 std::string OptionGroup::string(const char* name, const char* help, const std::string& def) {
   std::string text;
-  const bool set = lookup(name, text);
+  const bool set = lookup(name, text, help);
   record(name, help, def, text, set);
   return set ? text : def;
 }
@@ -297,9 +315,10 @@ std::size_t OptionGroup::choice_index(const char* name, const char* help,
     if (!all.empty()) all += '|';
     all += w;
   }
+  const std::string described = std::string(help) + " (" + all + ")";
   std::string text;
-  const bool set = lookup(name, text);
-  record(name, (std::string(help) + " (" + all + ")").c_str(), words[def_index], text, set);
+  const bool set = lookup(name, text, described.c_str());
+  record(name, described.c_str(), words[def_index], text, set);
   if (!set) return def_index;
   const auto it = std::find(words.begin(), words.end(), text);
   if (it == words.end())
@@ -315,7 +334,7 @@ std::vector<double> OptionGroup::positive_reals(const char* name, const char* he
     def_text += text_of(v);
   }
   std::string text;
-  const bool set = lookup(name, text);
+  const bool set = lookup(name, text, help);
   record(name, help, def_text, text, set);
   if (!set) return def;
   std::vector<double> values;
@@ -346,7 +365,7 @@ void OptionGroup::petsc_default(const char* name, const char* help, const char* 
   // Looking it up marks it used: a default that the chosen solver ignores
   // (e.g. -pc_gamg_* with -pc_type jacobi) is not a user typo.
   std::string text;
-  const bool set = lookup(name, text);
+  const bool set = lookup(name, text, nullptr);  // PETSc parses it (check_type_option for types)
   record(name, help, value, text, set, true);
 }
 
@@ -359,6 +378,9 @@ bool OptionGroup::given(const char* name) const {
 void check_type_option(const char* name, PetscFunctionList types, const char* kind) {
   for (const auto& [option, value] : database()) {
     if (lower(option) != lower(name)) continue;
+    if (value.empty())
+      throw InputError("option " + option + " is given without a value (a " + kind +
+                       " type known to PETSc)");
     void (*create)(void) = nullptr;
     LEM_PETSC(PetscFunctionListFind(types, value.c_str(), &create));
     if (create) continue;
@@ -373,6 +395,26 @@ void check_type_option(const char* name, PetscFunctionList types, const char* ki
     throw InputError("option " + option + " = '" + value + "' is not a " + kind + " type known "
                      "to PETSc" + (best ? " (did you mean " + *best + "?)" : std::string()));
   }
+}
+
+std::string unreadable_options_file(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string name = argv[i];
+    if (name != "-options_file" && name != "-options_file_yaml") continue;
+    if (i + 1 >= argc || argv[i + 1][0] == '\0' ||
+        (argv[i + 1][0] == '-' && std::isalpha(static_cast<unsigned char>(argv[i + 1][1]))))
+      return "option " + name + " is given without a value (a file of options)";
+    const std::string path = argv[++i];
+    std::error_code ec;
+    const bool directory = std::filesystem::is_directory(path, ec);
+    if (std::FILE* f = directory ? nullptr : std::fopen(path.c_str(), "r")) {
+      std::fclose(f);
+      continue;
+    }
+    return "option " + name + " = '" + path + "': " +
+           (directory ? "a directory, not a file" : "the file cannot be read");
+  }
+  return "";
 }
 
 void check_option_names(MPI_Comm comm) {
@@ -394,6 +436,67 @@ void check_option_names(MPI_Comm comm) {
                     (solver ? "; the solver also takes PETSc's standard -ksp_*, -pc_* and "
                               "-mat_* options (docs/user-guide.md)" : "") +
                     ". Nothing was run.");
+  }
+}
+
+void read_petsc_options(const std::function<void()>& read) {
+  try {
+    read();
+  } catch (const PetscFailure& failure) {
+    // PETSc quotes the bad value, not the option ("Input string abc has no
+    // numeric value"): name every PETSc option given that value.
+    const std::string message = failure.what();
+    std::vector<std::string> words;
+    std::string word;
+    for (char c : message + " ") {
+      if (std::isspace(static_cast<unsigned char>(c)) || c == ':' || c == '\'' || c == '"') {
+        if (!word.empty()) words.push_back(lower(word));
+        word.clear();
+      } else {
+        word += c;
+      }
+    }
+    // Failing that, the options given without a value (-pc_gamg_type alone).
+    std::string named, bare;
+    int bare_count = 0;
+    for (const auto& [option, value] : database()) {
+      const OptionRecord* ours = find_record(option);  // parsed by OptionGroup, unless PETSc's
+      if (ours && !ours->petsc_default) continue;
+      if (value.empty()) {
+        bare += (bare.empty() ? "" : ", ") + option;
+        ++bare_count;
+      } else if (std::find(words.begin(), words.end(), lower(value)) != words.end()) {
+        named += (named.empty() ? "option " : ", ") + option + " = '" + value + "'";
+      }
+    }
+    if (named.empty() && bare_count == 1) named = "option " + bare + ", given without a value,";
+    if (named.empty() && bare_count > 1)
+      named = "one of the options given without a value (" + bare + ")";
+    throw InputError((named.empty() ? std::string("a solver option") : named) +
+                     " is rejected by PETSc: " + message);
+  }
+}
+
+void check_bare_petsc_options(const std::function<void()>& read) {
+  const char* const probe = "lem:no-value";
+  for (const auto& [option, value] : database()) {
+    const OptionRecord* ours = find_record(option);
+    if (!value.empty() || (ours && !ours->petsc_default) ||
+        !has_any_prefix(option.substr(1), kReadAtCreation))
+      continue;
+    LEM_PETSC(PetscOptionsSetValue(nullptr, option.c_str(), probe));
+    std::string failure;
+    try {
+      read();
+    } catch (const InputError& e) {
+      failure = e.what();
+    }
+    LEM_PETSC(PetscOptionsSetValue(nullptr, option.c_str(), nullptr));  // bare again
+    const std::string quoted = std::string(" ") + probe + " ";
+    if (failure.find("Input string" + quoted + "has no") != std::string::npos ||
+        failure.find("Unknown option" + quoted + "for") != std::string::npos)
+      throw InputError("option " + option + " is given without a value (PETSc reads a number "
+                       "or a word there, and would ignore it)");
   }
 }
 

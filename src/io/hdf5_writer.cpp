@@ -537,7 +537,7 @@ void write_lattice_fields(MPI_Comm comm, const std::string& stem, const NodeSlic
     std::vector<double> values(static_cast<std::size_t>(count));
     if (rank == 0)
       for (std::size_t i = 0; i < scalars.size(); ++i) values[i] = scalars[i].second;
-    if (count > 0) MPI_Bcast(values.data(), static_cast<int>(count), MPI_DOUBLE, 0, comm);
+    broadcast_bytes(comm, values.data(), values.size() * sizeof(double), 0);
     std::set<std::string> names(std::begin(h5::kProvenanceNames), std::end(h5::kProvenanceNames));
     for (std::size_t i = 0; i < values.size(); ++i) {
       std::string name = broadcast_string(comm, rank == 0 ? scalars[i].first : std::string(), 0);

@@ -7,6 +7,8 @@
 #include "lem/files.hpp"
 #include "lem/hdf5_writer.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <sstream>
@@ -46,6 +48,61 @@ void write_checkpoint_file(const std::string& path, const Checkpoint& c) {
   write_text_file_atomically(path, std::string(w.bytes.begin(), w.bytes.end()));
 }
 
+namespace {
+
+// Beyond the checksum, which a crafted file passes: sizes and ids must fit
+// the run the fingerprint describes (the fingerprint itself is compared
+// with this run's by CheckpointStore::load; bond ids by the ledger's replay).
+void check_checkpoint_values(const Checkpoint& c, const std::string& bad) {
+  const auto refuse = [&](const std::string& what) {
+    throw InputError(bad + what + "); remove it or pass -checkpoint_resume false");
+  };
+  std::int64_t nodes = -1;
+  std::istringstream lines(c.fingerprint);
+  for (std::string line; std::getline(lines, line);)
+    if (line.rfind("nodes=", 0) == 0) std::istringstream(line.substr(6)) >> nodes;
+  if (nodes < 0) refuse("no node count in its fingerprint");
+  if (c.displacement.size() != 3 * static_cast<std::uint64_t>(nodes))
+    refuse(std::to_string(c.displacement.size()) + " displacement values for " +
+           std::to_string(nodes) + " nodes");
+  for (std::size_t i = 0; i < c.displacement.size(); ++i)
+    if (!std::isfinite(c.displacement[i]))
+      refuse("displacement " + std::to_string(i) + " is not finite");
+  const FractureState& s = c.state;
+  const FractureTally& t = s.tally;
+  for (const std::int64_t count : {t.steps, t.visited_steps, t.solves, t.iterations,
+                                   t.preconditioner_builds, t.rupture_steps, s.batches,
+                                   s.files.curve_bytes, s.files.broken_bytes})
+    if (count < 0) refuse("a negative count in its state");
+  const DamageHistory& h = c.damage;
+  // Batches are numbered 1, 2, ... in order; builds follow batch 0 (the
+  // intact system) or a later one.
+  const auto check_batches = [&](const std::vector<std::int64_t>& batches, std::int64_t lowest,
+                                 const char* what) {
+    for (std::size_t k = 0; k < batches.size(); ++k)
+      if (batches[k] < lowest || batches[k] > s.batches || (k > 0 && batches[k] < batches[k - 1]))
+        refuse(std::string(what) + " " + std::to_string(k) + " is in batch " +
+               std::to_string(batches[k]) + ", out of order or beyond the " +
+               std::to_string(s.batches) + " batches of its state");
+  };
+  check_batches(h.bond_batches, 1, "bond event");
+  check_batches(h.node_batches, 1, "node event");
+  check_batches(h.build_batches, 0, "preconditioner build");
+  for (std::size_t k = 0; k < h.node_events.size(); ++k)
+    if (h.node_events[k] < 0 || h.node_events[k] >= nodes)
+      refuse("node event " + std::to_string(k) + " pins node " +
+             std::to_string(h.node_events[k]) + ", not one of the " + std::to_string(nodes) +
+             " nodes");
+  std::vector<std::int64_t> bonds = h.bond_events;
+  std::sort(bonds.begin(), bonds.end());
+  if (!bonds.empty() && bonds.front() < 0)
+    refuse("a bond event breaks bond " + std::to_string(bonds.front()));
+  const auto twice = std::adjacent_find(bonds.begin(), bonds.end());
+  if (twice != bonds.end()) refuse("bond " + std::to_string(*twice) + " is broken twice");
+}
+
+}  // namespace
+
 Checkpoint read_checkpoint_file(const std::string& path) {
   std::FILE* f = std::fopen(path.c_str(), "rb");
   if (!f) throw InputError("cannot open the checkpoint '" + path + "'");
@@ -83,6 +140,7 @@ Checkpoint read_checkpoint_file(const std::string& path) {
   } catch (const std::runtime_error& e) {
     throw InputError(bad + "written by another version of the code: " + e.what() + ")");
   }
+  check_checkpoint_values(c, bad);
   return c;
 }
 

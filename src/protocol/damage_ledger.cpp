@@ -1,6 +1,9 @@
 #include "lem/protocol/damage_ledger.hpp"
 
+#include "lem/error.hpp"
+
 #include <algorithm>
+#include <string>
 
 namespace lem {
 
@@ -64,6 +67,23 @@ void DamageLedger::apply(const std::vector<std::int64_t>& bonds,
 }
 
 void DamageLedger::replay(DamageHistory h, std::int64_t batches) {
+  // A recorded bond id that is no bond of this system would be skipped
+  // silently (another fracture): each must be reported by exactly one rank.
+  std::vector<int> held(h.bond_events.size(), 0), total(held.size(), 0);
+  for (std::size_t k = 0; k < held.size(); ++k) {
+    const auto it = local_bonds_.find(h.bond_events[k]);
+    if (it != local_bonds_.end())
+      for (int b : it->second) held[k] += lattice_.bond_reported[b] ? 1 : 0;
+  }
+  MPI_Allreduce(held.data(), total.data(), static_cast<int>(held.size()), MPI_INT, MPI_SUM,
+                lattice_.comm);
+  const auto foreign = std::find_if(total.begin(), total.end(), [](int n) { return n != 1; });
+  if (foreign != total.end()) {
+    const auto k = static_cast<std::size_t>(foreign - total.begin());
+    throw InputError("the damage history to resume from (the checkpoint) breaks bond " +
+                     std::to_string(h.bond_events[k]) + " (its bond event " + std::to_string(k) +
+                     "), which is not a bond of this sample's system");
+  }
   std::size_t ib = 0, in = 0, ip = 0;
   auto builds_after = [&](std::int64_t batch) {
     for (; ip < h.build_batches.size() && h.build_batches[ip] == batch; ++ip)

@@ -10,8 +10,10 @@
 #include <hdf5.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <limits>
+#include <sstream>
 #include <stdexcept>
 #include <system_error>
 #include <type_traits>
@@ -402,13 +404,112 @@ class SampleReader {
   Handle file_;
 };
 
+// Each check names the dataset and its first bad row.
 template <class T>
 void check_range(const SampleReader& r, const std::vector<T>& values, std::int64_t lo,
-                 std::int64_t hi, const std::string& what) {
-  for (const T v : values)
-    if (static_cast<std::int64_t>(v) < lo || static_cast<std::int64_t>(v) > hi)
-      r.corrupt(what + " " + std::to_string(static_cast<std::int64_t>(v)) +
-                " is out of range [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+                 std::int64_t hi, const std::string& dataset, std::size_t columns = 1) {
+  for (std::size_t k = 0; k < values.size(); ++k) {
+    const auto v = static_cast<std::int64_t>(values[k]);
+    if (v < lo || v > hi)
+      r.corrupt(dataset + " row " + std::to_string(k / columns) + " holds " + std::to_string(v) +
+                ", out of range [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+  }
+}
+
+std::string text_of(double v) {
+  std::ostringstream s;
+  s.precision(10);
+  s << v;
+  return s.str();
+}
+
+std::string text_of(const Point& p) {
+  return "(" + text_of(p[0]) + ", " + text_of(p[1]) + ", " + text_of(p[2]) + ")";
+}
+
+// The values a mechanical run relies on: a NaN or a node far outside the box
+// would otherwise surface far from its cause (a "disconnected" sample, a
+// diverged solve) or not at all (a wrong stress).
+void check_geometry(const SampleReader& r, const CementedSample& s) {
+  const Box& box = s.lattice.box;
+  double side = 0;
+  for (int a = 0; a < 3; ++a) {
+    if (!std::isfinite(box.lo[a]) || !std::isfinite(box.hi[a]) || !(box.lo[a] < box.hi[a]))
+      r.corrupt("attributes box_lo " + text_of(box.lo) + " and box_hi " + text_of(box.hi) +
+                " do not describe a box");
+    side = std::max(side, box.length(a));
+  }
+  // Nodes lie on the faces up to the rounding of whoever wrote them.
+  const double slack = 1e-9 * side;
+  const auto& nodes = s.lattice.nodes;
+  for (std::size_t i = 0; i < nodes.size(); ++i)
+    for (int a = 0; a < 3; ++a) {
+      if (!std::isfinite(nodes[i][a]))
+        r.corrupt("/nodes/coordinates row " + std::to_string(i) + " = " + text_of(nodes[i]) +
+                  " is not finite");
+      if (nodes[i][a] < box.lo[a] - slack || nodes[i][a] > box.hi[a] + slack)
+        r.corrupt("/nodes/coordinates row " + std::to_string(i) + " = " + text_of(nodes[i]) +
+                  " lies outside the box " + text_of(box.lo) + " - " + text_of(box.hi) +
+                  " (attributes box_lo, box_hi)");
+    }
+  double volume = 0;
+  for (std::size_t i = 0; i < s.node_volume.size(); ++i) {
+    const double v = s.node_volume[i];
+    if (!(std::isfinite(v) && v > 0))
+      r.corrupt("/nodes/volume row " + std::to_string(i) + " = " + text_of(v) +
+                " is not a finite positive volume");
+    volume += v;
+  }
+  // Clipped Voronoi cells tile the box.
+  const double box_volume = box.length(0) * box.length(1) * box.length(2);
+  if (!nodes.empty() && std::fabs(volume - box_volume) > 1e-6 * box_volume)
+    r.corrupt("/nodes/volume sums to " + text_of(volume) + ", not to the volume of the box, " +
+              text_of(box_volume));
+
+  // Bonds: ends already checked to be 0 <= i < j < N.
+  const auto& bonds = s.lattice.bonds;
+  for (std::size_t b = 0; b < bonds.size(); ++b) {
+    const Point& p = nodes[bonds[b].i];
+    const Point& q = nodes[bonds[b].j];
+    const double length =
+        std::sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
+                  (p[2] - q[2]) * (p[2] - q[2]));
+    if (!(length > 1e-12 * side))
+      r.corrupt("/bonds/connectivity row " + std::to_string(b) + " joins nodes " +
+                std::to_string(bonds[b].i) + " and " + std::to_string(bonds[b].j) +
+                ", which coincide at " + text_of(p) + " (a bond of zero length)");
+  }
+  // The first row that repeats an earlier one.
+  std::vector<std::pair<std::uint64_t, std::size_t>> keys(bonds.size());
+  for (std::size_t b = 0; b < bonds.size(); ++b)
+    keys[b] = {(static_cast<std::uint64_t>(bonds[b].i) << 32) |
+                   static_cast<std::uint32_t>(bonds[b].j),
+               b};
+  std::sort(keys.begin(), keys.end());
+  std::size_t repeat = bonds.size(), original = 0;
+  for (std::size_t k = 1, start = 0; k < keys.size(); ++k) {
+    if (keys[k].first != keys[k - 1].first) {
+      start = k;  // a new pair; keys[start] is its first row
+    } else if (keys[k].second < repeat) {
+      repeat = keys[k].second;
+      original = keys[start].second;
+    }
+  }
+  if (repeat < bonds.size())
+    r.corrupt("/bonds/connectivity row " + std::to_string(repeat) + " repeats row " +
+              std::to_string(original) + " (nodes " + std::to_string(bonds[repeat].i) +
+              " and " + std::to_string(bonds[repeat].j) + ")");
+
+  for (std::size_t k = 0; k < s.particles.size(); ++k) {
+    const Point& c = s.particles[k].centre;
+    if (!std::isfinite(c[0]) || !std::isfinite(c[1]) || !std::isfinite(c[2]))
+      r.corrupt("/particles/centres row " + std::to_string(k) + " = " + text_of(c) +
+                " is not finite");
+  }
+  for (std::size_t k = 0; k < s.bridges.size(); ++k)
+    if (!(std::isfinite(s.bridges[k].lambda) && s.bridges[k].lambda > 0))
+      r.corrupt("/bridges/lambda row " + std::to_string(k) + " = " +
+                text_of(s.bridges[k].lambda) + " is not a finite positive ratio");
 }
 
 SampleFile read_everything(const std::string& path) {
@@ -477,18 +578,22 @@ SampleFile read_everything(const std::string& path) {
   for (std::size_t i = 0; i < s.particles.size(); ++i) {
     std::copy(&centres[3 * i], &centres[3 * i] + 3, s.particles[i].centre.begin());
     s.particles[i].radius = radii[i];
-    if (!(radii[i] > 0)) r.corrupt("particle " + std::to_string(i) + " has radius <= 0");
+    if (!(std::isfinite(radii[i]) && radii[i] > 0))
+      r.corrupt("/particles/radii row " + std::to_string(i) + " = " + text_of(radii[i]) +
+                " is not a finite positive radius");
   }
 
   s.node_phases.particle = r.dataset<std::int32_t>("/nodes/particle", n);
-  check_range(r, s.node_phases.particle, -1, p - 1, "/nodes/particle value");
+  check_range(r, s.node_phases.particle, -1, p - 1, "/nodes/particle");
   const auto node_codes = r.dataset<std::uint8_t>("/nodes/phase", n);
-  check_range(r, node_codes, 0, 2, "/nodes/phase code");
+  check_range(r, node_codes, 0, 2, "/nodes/phase");
   s.node_phases.matrix.resize(static_cast<std::size_t>(n));
   for (std::size_t i = 0; i < node_codes.size(); ++i) {
     if ((node_codes[i] == 0) != (s.node_phases.particle[i] >= 0))
-      r.corrupt("node " + std::to_string(i) + " has phase " + std::to_string(node_codes[i]) +
-                " but particle index " + std::to_string(s.node_phases.particle[i]));
+      r.corrupt("/nodes/phase row " + std::to_string(i) + " holds " +
+                std::to_string(node_codes[i]) + " but /nodes/particle holds " +
+                std::to_string(s.node_phases.particle[i]) + " (0 is the phase of nodes in a "
+                "particle, and only of them)");
     s.node_phases.matrix[i] = node_codes[i] == 1 ? 1 : 0;
   }
 
@@ -499,12 +604,13 @@ SampleFile read_everything(const std::string& path) {
   for (std::size_t b = 0; b < s.lattice.bonds.size(); ++b) {
     const std::int64_t i = ends[2 * b], j = ends[2 * b + 1];
     if (i < 0 || j >= n || i >= j)
-      r.corrupt("bond " + std::to_string(b) + " joins nodes " + std::to_string(i) + " and " +
-                std::to_string(j) + " (needs 0 <= i < j < " + std::to_string(n) + ")");
+      r.corrupt("/bonds/connectivity row " + std::to_string(b) + " joins nodes " +
+                std::to_string(i) + " and " + std::to_string(j) + " (needs 0 <= i < j < " +
+                std::to_string(n) + ")");
     s.lattice.bonds[b] = {static_cast<std::int32_t>(i), static_cast<std::int32_t>(j)};
   }
   const auto bond_codes = r.dataset<std::uint8_t>("/bonds/phase", m);
-  check_range(r, bond_codes, 0, kPhaseCount - 1, "/bonds/phase code");
+  check_range(r, bond_codes, 0, kPhaseCount - 1, "/bonds/phase");
   s.bond_phase.resize(bond_codes.size());
   for (std::size_t b = 0; b < bond_codes.size(); ++b) s.bond_phase[b] = static_cast<Phase>(bond_codes[b]);
   s.lattice.stiffness = r.dataset<double>("/bonds/stiffness", m);
@@ -513,10 +619,11 @@ SampleFile read_everything(const std::string& path) {
   std::int64_t nb = -1;
   const auto pairs = r.dataset<std::int32_t>("/bridges/particles", nb, 2);
   const auto lambda = r.dataset<double>("/bridges/lambda", nb);
-  check_range(r, pairs, 0, p - 1, "/bridges/particles index");
+  check_range(r, pairs, 0, p - 1, "/bridges/particles", 2);
   s.bridges.resize(static_cast<std::size_t>(nb));
   for (std::size_t k = 0; k < s.bridges.size(); ++k)
     s.bridges[k] = {pairs[2 * k], pairs[2 * k + 1], lambda[k]};
+  check_geometry(r, s);
   return f;
 }
 

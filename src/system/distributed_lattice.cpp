@@ -1,5 +1,6 @@
 #include "lem/distributed_lattice.hpp"
 
+#include "lem/collective.hpp"
 #include "lem/error.hpp"
 
 #include <algorithm>
@@ -132,49 +133,66 @@ DistributedLattice distribute_lattice(MPI_Comm comm, const Lattice& lattice,
   dl.comm = comm;
   double header[9] = {};
   std::vector<char> mine;
+  // Rank 0 builds and sends the pieces while the others wait for theirs: a
+  // failure there must not leave them waiting.  It sends kFailed to every
+  // rank still waiting, and all agree on its error.
+  constexpr std::uint64_t kFailed = ~std::uint64_t(0);
+  std::exception_ptr error;
   if (rank == 0) {
-    if (partition.parts != size)
-      throw std::logic_error("distribute_lattice: partition has a different number of parts");
-    double length_sum = 0;
-    for (std::size_t b = 0; b < lattice.bond_count(); ++b) length_sum += lattice.bond_length(b);
-    std::int64_t active = 0;
-    for (char a : constraints.bond_active) active += a;
-    header[0] = length_sum / static_cast<double>(std::max<std::size_t>(1, lattice.bond_count()));
-    header[1] = static_cast<double>(lattice.node_count());
-    header[2] = static_cast<double>(active);
-    for (int a = 0; a < 3; ++a) {
-      header[3 + a] = lattice.box.lo[a];
-      header[6 + a] = lattice.box.hi[a];
-    }
-    std::vector<std::int64_t> old_of_new(lattice.node_count());
-    for (std::size_t n = 0; n < lattice.node_count(); ++n)
-      old_of_new[partition.new_index[n]] = static_cast<std::int64_t>(n);
-    std::vector<std::vector<std::int32_t>> rank_bonds(size);
-    for (std::size_t b = 0; b < lattice.bond_count(); ++b) {
-      if (!constraints.bond_active[b]) continue;
-      const int oi = partition.owner[lattice.bonds[b].i], oj = partition.owner[lattice.bonds[b].j];
-      rank_bonds[oi].push_back(static_cast<std::int32_t>(b));
-      if (oj != oi) rank_bonds[oj].push_back(static_cast<std::int32_t>(b));
-    }
-    for (int r = size - 1; r >= 0; --r) {
-      auto bytes = make_piece(r, lattice, constraints, partition, faces, old_of_new, rank_bonds[r])
-                       .pack();
-      rank_bonds[r].clear();
-      rank_bonds[r].shrink_to_fit();
-      if (r == 0) {
-        mine = std::move(bytes);
-      } else {
-        const std::uint64_t n = bytes.size();
-        MPI_Send(&n, 1, MPI_UINT64_T, r, 0, comm);
-        MPI_Send(bytes.data(), static_cast<int>(n), MPI_CHAR, r, 1, comm);
+    int next = size - 1;  // the pieces go from the last rank down
+    try {
+      if (partition.parts != size)
+        throw std::logic_error("distribute_lattice: partition has a different number of parts");
+      double length_sum = 0;
+      for (std::size_t b = 0; b < lattice.bond_count(); ++b) length_sum += lattice.bond_length(b);
+      std::int64_t active = 0;
+      for (char a : constraints.bond_active) active += a;
+      header[0] =
+          length_sum / static_cast<double>(std::max<std::size_t>(1, lattice.bond_count()));
+      header[1] = static_cast<double>(lattice.node_count());
+      header[2] = static_cast<double>(active);
+      for (int a = 0; a < 3; ++a) {
+        header[3 + a] = lattice.box.lo[a];
+        header[6 + a] = lattice.box.hi[a];
       }
+      std::vector<std::int64_t> old_of_new(lattice.node_count());
+      for (std::size_t n = 0; n < lattice.node_count(); ++n)
+        old_of_new[partition.new_index[n]] = static_cast<std::int64_t>(n);
+      std::vector<std::vector<std::int32_t>> rank_bonds(size);
+      for (std::size_t b = 0; b < lattice.bond_count(); ++b) {
+        if (!constraints.bond_active[b]) continue;
+        const int oi = partition.owner[lattice.bonds[b].i];
+        const int oj = partition.owner[lattice.bonds[b].j];
+        rank_bonds[oi].push_back(static_cast<std::int32_t>(b));
+        if (oj != oi) rank_bonds[oj].push_back(static_cast<std::int32_t>(b));
+      }
+      for (; next >= 0; --next) {
+        auto bytes = make_piece(next, lattice, constraints, partition, faces, old_of_new,
+                                rank_bonds[next])
+                         .pack();
+        rank_bonds[next].clear();
+        rank_bonds[next].shrink_to_fit();
+        if (next == 0) {
+          mine = std::move(bytes);
+        } else {
+          const std::uint64_t n = bytes.size();
+          MPI_Send(&n, 1, MPI_UINT64_T, next, 0, comm);
+          send_bytes(comm, bytes.data(), n, next, 1);
+        }
+      }
+    } catch (...) {
+      error = std::current_exception();
+      for (int r = 1; r <= next; ++r) MPI_Send(&kFailed, 1, MPI_UINT64_T, r, 0, comm);
     }
   } else {
     std::uint64_t n = 0;
     MPI_Recv(&n, 1, MPI_UINT64_T, 0, 0, comm, MPI_STATUS_IGNORE);
-    mine.resize(n);
-    MPI_Recv(mine.data(), static_cast<int>(n), MPI_CHAR, 0, 1, comm, MPI_STATUS_IGNORE);
+    if (n != kFailed) {
+      mine.resize(n);
+      receive_bytes(comm, mine.data(), n, 0, 1);
+    }
   }
+  agree_on_error(comm, error);
   MPI_Bcast(header, 9, MPI_DOUBLE, 0, comm);
   Piece piece;
   piece.unpack(mine);

@@ -79,7 +79,7 @@ ElasticSystem::ElasticSystem(DistributedLattice& lattice, const SolverOptions& o
   LEM_PETSC(MatSetBlockSize(K_, 3));
   LEM_PETSC(MatSetType(K_, MATAIJ));
   default_no_inodes();
-  LEM_PETSC(MatSetFromOptions(K_));
+  read_petsc_options([&] { LEM_PETSC(MatSetFromOptions(K_)); });
   LEM_PETSC(MatXAIJSetPreallocation(K_, 3, diag.data(), off.data(), nullptr, nullptr));
   LEM_PETSC(MatSetOption(K_, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
   LEM_PETSC(MatSetOption(K_, MAT_SYMMETRIC, PETSC_TRUE));
@@ -112,7 +112,7 @@ ElasticSystem::ElasticSystem(DistributedLattice& lattice, const SolverOptions& o
   LEM_PETSC(KSPSetOperators(ksp_, K_, K_));
   LEM_PETSC(KSPSetInitialGuessNonzero(ksp_, PETSC_TRUE));
   apply_solver_defaults(ksp_);
-  LEM_PETSC(KSPSetFromOptions(ksp_));
+  set_from_options(ksp_);
   install_convergence_test();
   create_fallback();  // now, so that its -fallback_* options count as used
   stage.pop();
@@ -356,7 +356,7 @@ SolveReport ElasticSystem::attempt_solve(const EarlyStop* early) {
   const PetscErrorCode solved = KSPSolve(ksp_, b_, u_);
   convergence_->early = nullptr;
   if (convergence_->error) std::rethrow_exception(convergence_->error);
-  LEM_PETSC(solved);
+  if (solved) throw PetscFailure("KSPSolve(ksp_, b_, u_)", solved);
   report.stopped_early = convergence_->stopped;
   solve_stage.pop();
   report.solve_seconds = MPI_Wtime() - t0;
@@ -373,17 +373,12 @@ SolveReport ElasticSystem::attempt_solve(const EarlyStop* early) {
 void ElasticSystem::create_fallback() {
   {
     LEM_PETSC(KSPCreate(lattice_.comm, fallback_ksp_.replace()));
-    LEM_PETSC(KSPSetOptionsPrefix(fallback_ksp_, "fallback_"));
-    LEM_PETSC(KSPSetType(fallback_ksp_, KSPCG));
-    PC pc;
-    LEM_PETSC(KSPGetPC(fallback_ksp_, &pc));
-    LEM_PETSC(PCSetType(pc, PCJACOBI));
+    apply_fallback_defaults(fallback_ksp_);
     PetscReal rtol, abstol, dtol;
     PetscInt max_it;
     LEM_PETSC(KSPGetTolerances(ksp_, &rtol, &abstol, &dtol, &max_it));
     LEM_PETSC(KSPSetTolerances(fallback_ksp_, rtol, abstol, dtol, 200000));
-    LEM_PETSC(KSPSetInitialGuessNonzero(fallback_ksp_, PETSC_TRUE));
-    LEM_PETSC(KSPSetFromOptions(fallback_ksp_));
+    set_from_options(fallback_ksp_);
   }
 }
 

@@ -5,6 +5,7 @@
 #include "lem/elastic_system.hpp"
 #include "lem/error.hpp"
 #include "lem/options.hpp"
+#include "lem/petsc_handle.hpp"
 
 #include <string>
 
@@ -82,6 +83,31 @@ void apply_solver_defaults(KSP ksp) {
   LEM_PETSC(KSPSetPreSolve(ksp, multigrid_level_defaults, nullptr));
 }
 
+void apply_fallback_defaults(KSP ksp) {
+  LEM_PETSC(KSPSetOptionsPrefix(ksp, "fallback_"));
+  LEM_PETSC(KSPSetType(ksp, KSPCG));
+  PC pc;
+  LEM_PETSC(KSPGetPC(ksp, &pc));
+  LEM_PETSC(PCSetType(pc, PCJACOBI));
+  LEM_PETSC(KSPSetInitialGuessNonzero(ksp, PETSC_TRUE));
+}
+
+void set_from_options(KSP ksp) {
+  read_petsc_options([&] { LEM_PETSC(KSPSetFromOptions(ksp)); });
+  // preonly (and its alias none) refuses a non-zero initial guess, and every
+  // solve starts from the last solution: it would fail at the first solve.
+  PetscBool once = PETSC_FALSE;
+  LEM_PETSC(PetscObjectTypeCompareAny(reinterpret_cast<PetscObject>(ksp), &once, KSPPREONLY,
+                                      KSPNONE, ""));
+  if (!once) return;
+  const char* prefix = nullptr;
+  LEM_PETSC(KSPGetOptionsPrefix(ksp, &prefix));
+  throw InputError("option -" + std::string(prefix ? prefix : "") + "ksp_type = preonly (or "
+                   "none) cannot be used: every solve starts from the previous solution, which "
+                   "these refuse (for one application of the preconditioner, use richardson "
+                   "with -" + (prefix ? prefix : "") + "ksp_max_it 1)");
+}
+
 // -mat_no_inode must also reach the matrices that GAMG creates inside
 // (coarse operators, prolongators), which only the options database does:
 // the one default still put there, unless the option was given.
@@ -115,16 +141,31 @@ SolverOptions read_solver_options(MPI_Comm comm) {
   }
   // (-mat_type is left to MatSetFromOptions: "aij", "baij" are root names
   // outside MatList.)
+  // The solvers' options read once by throwaway objects (the system's own
+  // are made only after the sample): a value PETSc cannot take fails here,
+  // before any work.  With -help, PETSc lists its KSP and PC options, with
+  // our defaults as current values.
+  const auto read_solvers = [comm] {
+    for (const bool fallback : {false, true}) {
+      KspHandle ksp;
+      LEM_PETSC(KSPCreate(comm, ksp.replace()));
+      if (fallback)
+        apply_fallback_defaults(ksp);
+      else
+        apply_solver_defaults(ksp);
+      set_from_options(ksp);
+    }
+  };
+  read_solvers();
   PetscBool help = PETSC_FALSE;
   LEM_PETSC(PetscOptionsHasHelp(nullptr, &help));
-  if (help) {  // let PETSc list its KSP and PC options, with our defaults as current values
-    KSP ksp;
-    LEM_PETSC(KSPCreate(comm, &ksp));
-    apply_solver_defaults(ksp);
-    const PetscErrorCode ierr = KSPSetFromOptions(ksp);
-    KSPDestroy(&ksp);
-    LEM_PETSC(ierr);
-  }
+  if (!help) check_bare_petsc_options(read_solvers);  // (each reading would list them again)
+  MatHandle matrix;  // -mat_type and the options of the matrix type
+  LEM_PETSC(MatCreate(comm, matrix.replace()));
+  LEM_PETSC(MatSetSizes(matrix, 3, 3, PETSC_DETERMINE, PETSC_DETERMINE));
+  LEM_PETSC(MatSetBlockSize(matrix, 3));
+  LEM_PETSC(MatSetType(matrix, MATAIJ));
+  read_petsc_options([&] { LEM_PETSC(MatSetFromOptions(matrix)); });
   return o;
 }
 
@@ -137,7 +178,12 @@ KSP create_patch_solver(MPI_Comm comm, double rtol) {
   LEM_PETSC(KSPGetPC(ksp, &pc));
   LEM_PETSC(PCSetType(pc, PCJACOBI));
   LEM_PETSC(KSPSetTolerances(ksp, rtol, PETSC_DEFAULT, PETSC_DEFAULT, 5000));
-  LEM_PETSC(KSPSetFromOptions(ksp));
+  try {
+    read_petsc_options([&] { LEM_PETSC(KSPSetFromOptions(ksp)); });
+  } catch (...) {
+    KSPDestroy(&ksp);
+    throw;
+  }
   return ksp;
 }
 

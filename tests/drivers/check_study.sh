@@ -8,9 +8,11 @@ root="$(cd "$(dirname "$0")/../.." && pwd)"
 study=(/usr/bin/python3 "$root/tools/study.py")
 fail() { echo "FAIL: $*"; exit 1; }
 rm -rf "$work"; mkdir -p "$work"
-expect_error() {  # expect_error PATTERN COMMAND...: non-zero exit, message matching PATTERN
-  local pattern="$1"; shift
-  "$@" > "$work/out" 2>&1 && fail "accepted: $* ($(tail -1 "$work/out"))"
+expect_error() {  # expect_error PATTERN COMMAND...: exit 1 (bad input), message matching PATTERN
+  local pattern="$1" status; shift
+  "$@" > "$work/out" 2>&1
+  status=$?
+  [ "$status" -eq 1 ] || fail "exit $status, expected 1: $* ($(tail -1 "$work/out"))"
   grep -q "$pattern" "$work/out" || fail "message for '$*' lacks '$pattern': $(tail -2 "$work/out")"
   echo "ok: $(grep -m1 "$pattern" "$work/out")"
 }
@@ -26,6 +28,10 @@ expect_error "the grid is empty" "${study[@]}" plan "$work/empty.yaml" "$work/a"
 sed 's/^matrix_fractions: .*/matrix_fractions: [0.9]/' <<< "$base" > "$work/range.yaml"
 expect_error "matrix_fractions value 0.9 outside" "${study[@]}" plan "$work/range.yaml" "$work/a"
 expect_error "cannot read the study file" "${study[@]}" plan "$work/missing.yaml" "$work/a"
+sed 's/^ranks: 1/ranks: true/' <<< "$base" > "$work/bool.yaml"
+expect_error "ranks must be a positive integer, not True" "${study[@]}" plan "$work/bool.yaml" "$work/a"
+printf '%s\nphases: {sigma_p: true}\n' "$base" > "$work/sigma.yaml"
+expect_error "phases.sigma_p must be a number > 0, not True" "${study[@]}" plan "$work/sigma.yaml" "$work/a"
 printf '%s\n' "$base" > "$work/ok.yaml"
 expect_error "ranks 0 is not a positive integer" "${study[@]}" plan "$work/ok.yaml" "$work/a" --ranks 0
 

@@ -1,13 +1,14 @@
 #!/bin/bash
-# Run a driver that must reject its input: it has to exit non-zero, print a
-# message matching PATTERN, and leave no summary in OUTPUT_DIR.
-# Usage: expect_failure.sh PATTERN OUTPUT_DIR command [args...]
-pattern="$1"; dir="$2"; shift 2
+# Run a driver that must reject its input: it has to exit with STATUS (the
+# documented exit status: 1 bad input, 2 numerical failure, 3 I/O or other),
+# print a message matching PATTERN, and leave no summary in OUTPUT_DIR.
+# Usage: expect_failure.sh STATUS PATTERN OUTPUT_DIR command [args...]
+expected="$1"; pattern="$2"; dir="$3"; shift 3
 rm -rf "$dir"
 output="$("$@" 2>&1)"
 status=$?
-if [ "$status" -eq 0 ]; then
-  echo "FAIL: exit status 0 for bad input: $*"; echo "$output"; exit 1
+if [ "$status" -ne "$expected" ]; then
+  echo "FAIL: exit status $status, expected $expected: $*"; echo "$output"; exit 1
 fi
 if ! grep -qE -- "$pattern" <<< "$output"; then
   echo "FAIL: message does not match '$pattern':"; echo "$output"; exit 1

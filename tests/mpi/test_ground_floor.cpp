@@ -1,6 +1,7 @@
 // The ground floor at 1 and 2 ranks: an error on some ranks becomes the same
 // error, of the same type, on every rank; the elastic system leaks no PETSc
 // object and no log stage when its constructor throws.
+#include "lem/collective.hpp"
 #include "lem/elastic_system.hpp"
 #include "lem/error.hpp"
 #include "lem/log.hpp"
@@ -170,13 +171,56 @@ TEST(Raii, ElasticSystemConstructorThrowingLeaksNothing) {
   { ElasticSystem fine(lattice, SolverOptions{}); }
   EXPECT_EQ(live_objects(), live);
 
-  // An unknown matrix type makes MatSetFromOptions fail after the vectors
-  // and the matrix exist, inside the "Assembly" log stage.
+  // An unknown matrix type makes MatSetFromOptions fail (an InputError
+  // naming the option) after the vectors and the matrix exist, inside the
+  // "Assembly" log stage.
   ASSERT_EQ(PetscOptionsSetValue(nullptr, "-mat_type", "no_such_type"), 0);
   ASSERT_EQ(PetscPushErrorHandler(PetscReturnErrorHandler, nullptr), 0);  // no trace printed
-  EXPECT_THROW(ElasticSystem broken(lattice, SolverOptions{}), PetscFailure);
+  EXPECT_THROW(ElasticSystem broken(lattice, SolverOptions{}), InputError);
   PetscPopErrorHandler();
   ASSERT_EQ(PetscOptionsClearValue(nullptr, "-mat_type"), 0);
   EXPECT_EQ(live_objects(), live);
   EXPECT_EQ(current_stage(), stage);
+}
+
+// Transfers go in pieces, so that byte counts beyond int fit: the same
+// values with pieces of 7 bytes and with one broadcast per rank instead of
+// one MPI_Allgatherv.
+TEST(Transfers, PiecesGiveTheSameValues) {
+  std::vector<double> mine(5 + 3 * rank());
+  for (std::size_t i = 0; i < mine.size(); ++i) mine[i] = 100.0 * rank() + static_cast<double>(i);
+  EXPECT_EQ(allgather(PETSC_COMM_WORLD, mine, 0), allgather(PETSC_COMM_WORLD, mine));
+  std::vector<double> values = mine;
+  broadcast(PETSC_COMM_WORLD, values, ranks() - 1, 7);
+  std::vector<double> expected(5 + 3 * (ranks() - 1));
+  for (std::size_t i = 0; i < expected.size(); ++i)
+    expected[i] = 100.0 * (ranks() - 1) + static_cast<double>(i);
+  EXPECT_EQ(values, expected);
+  if (ranks() < 2) return;
+  std::vector<char> text(1000);
+  for (std::size_t i = 0; i < text.size(); ++i) text[i] = static_cast<char>('a' + i % 26);
+  if (rank() == 0) send_bytes(PETSC_COMM_WORLD, text.data(), text.size(), 1, 5, 7);
+  if (rank() == 1) {
+    std::vector<char> got(text.size());
+    receive_bytes(PETSC_COMM_WORLD, got.data(), got.size(), 0, 5, 7);
+    EXPECT_EQ(got, text);
+  }
+}
+
+// Rank 0 fails while building the pieces: the others, waiting for theirs,
+// get the same error instead of waiting for ever.
+TEST(Transfers, ScatterFailingOnRootEndsEveryRank) {
+  Lattice lattice;
+  TensionConstraints constraints;
+  Partition partition;
+  std::vector<std::uint8_t> faces;
+  if (rank() == 0) {
+    lattice = make_fcc_lattice({2, 2, 2}, 1.0, 1.0);
+    faces = face_flags(lattice);
+    constraints = make_tension_constraints(lattice, faces);
+    partition = partition_lattice(lattice, constraints.bond_active, ranks());
+    partition.parts = ranks() + 1;  // not this communicator's
+  }
+  EXPECT_THROW(distribute_lattice(PETSC_COMM_WORLD, lattice, constraints, partition, faces),
+               std::logic_error);
 }

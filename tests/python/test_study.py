@@ -50,6 +50,22 @@ def test_valid_study_gets_the_defaults(tmp_path):
     (("name: t", "name: t\nfracture: {ksp_type: [cg]}"), "fracture.ksp_type must be a single"),
     (("sample: {sample_particles: 8, lattice_bonds: 6000}", "sample: 3"),
      "sample must be a mapping"),
+    # Each field has its type: nothing falls back silently to a default.
+    (("name: t", "name: [t]"), r"name must be a non-empty text, not \['t'\]"),
+    (("name: t", "name: true"), "name must be a non-empty text, not True"),
+    (("name: t", "name: 12"), "name must be a non-empty text, not 12"),
+    (("sample: {sample_particles: 8, lattice_bonds: 6000}", "sample: 0"),
+     "sample must be a mapping, not 0"),
+    (("sample: {sample_particles: 8, lattice_bonds: 6000}", "sample: false"),
+     "sample must be a mapping, not False"),
+    (("name: t", "name: t\nphases: []"), r"phases must be a mapping, not \[\]"),
+    (("name: t", "name: t\nfracture: {-ksp_type: cg}"), "fracture: '-ksp_type' is not an option"),
+    (("name: t", "name: t\nfracture: {1: 2}"), "fracture: 1 is not an option name"),
+    (("name: t", "name: t\nfracture: {ksp rtol: 1e-8}"), "'ksp rtol' is not an option name"),
+    (("name: t", "name: t\nfracture: {ksp_rtol: .nan}"), "fracture.ksp_rtol must be finite"),
+    (("name: t", "name: t\nfracture: {ksp_rtol: ''}"), "fracture.ksp_rtol is empty"),
+    (("name: t", "name: t\nfracture: {ksp_rtol: }"), "fracture.ksp_rtol must be a single value, "
+                                                      "not None"),
 ])
 def test_bad_study_files_are_refused(tmp_path, change, message):
     text = BASE.replace(*change)

@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 #include <petscksp.h>
 
+#include <cstdint>
+#include <limits>
 #include <string>
 
 namespace {
@@ -118,6 +120,68 @@ TEST(Options, RealsFlagsAndLists) {
     Given v("-lem_t_list", "1,2");
     EXPECT_TRUE(contains(error_of(list), "takes 3 comma-separated values, got 2"));
   }
+}
+
+TEST(Options, NumbersAreWholeDecimalTexts) {
+  OptionGroup g(PETSC_COMM_WORLD, "Test strict numbers");
+  auto read = [&] { return g.integer("-lem_t_strict", "an integer", 7, -10, 1000); };
+  for (const char* bad : {"0x10", "+-5", "5 ", "5x", "--5", "1e", ""}) {
+    Given v("-lem_t_strict", bad);
+    EXPECT_FALSE(error_of(read).empty()) << "accepted '" << bad << "'";
+  }
+  {
+    Given v("-lem_t_strict", "+12");
+    EXPECT_EQ(read(), 12);
+  }
+  // The whole int64 range, and not one past it (2^63 cannot be converted).
+  const std::int64_t top = std::numeric_limits<std::int64_t>::max();
+  auto wide = [&] { return g.integer("-lem_t_wide", "a wide integer", 0, 0, top); };
+  {
+    Given v("-lem_t_wide", "9223372036854775807");
+    EXPECT_EQ(wide(), top);
+  }
+  for (const char* beyond : {"9223372036854775808", "9.3e18", "1e300"}) {
+    Given v("-lem_t_wide", beyond);
+    EXPECT_TRUE(contains(error_of(wide), "is out of range")) << beyond;
+  }
+  auto real = [&] { return g.real("-lem_t_strict_real", "a real", 1.0, 0.0, 10.0); };
+  for (const char* bad : {"0x1p2", "1.5.2", "nan", "inf", "1e400"}) {
+    Given v("-lem_t_strict_real", bad);
+    EXPECT_FALSE(error_of(real).empty()) << "accepted '" << bad << "'";
+  }
+}
+
+TEST(Options, AValueMustFollowEveryOptionButAFlag) {
+  OptionGroup g(PETSC_COMM_WORLD, "Test missing values");
+  const char* name = "-lem_t_missing";
+  const std::string expected = "option -lem_t_missing is given without a value (help)";
+  for (const char* value : {static_cast<const char*>(nullptr), ""}) {
+    Given v(name, value);
+    EXPECT_EQ(error_of([&] { g.integer(name, "help", 1, 0, 9); }), expected);
+    EXPECT_EQ(error_of([&] { g.real(name, "help", 1, 0, 9); }), expected);
+    EXPECT_EQ(error_of([&] { g.string(name, "help", "x"); }), expected);
+    EXPECT_EQ(error_of([&] { g.positive_reals(name, "help", {1.0}); }), expected);
+    EXPECT_TRUE(contains(error_of([&] {
+                           g.choice<int>(name, "help", {{"a", 0}, {"b", 1}}, 0);
+                         }),
+                         "option -lem_t_missing is given without a value (help (a|b))"));
+  }
+}
+
+TEST(Options, ValuesPetscRejectsNameTheirOption) {
+  Given v("-lem_t_ksp_rtol", "abc");
+  const std::string e = error_of([] {
+    lem::read_petsc_options([] {
+      PetscReal value = 0;
+      PetscBool set = PETSC_FALSE;
+      lem::take_over_petsc_errors();  // keeps PETSc's message for the PetscFailure
+      const PetscErrorCode ierr =
+          PetscOptionsGetReal(nullptr, nullptr, "-lem_t_ksp_rtol", &value, &set);
+      PetscPopErrorHandler();
+      LEM_PETSC(ierr);
+    });
+  });
+  EXPECT_TRUE(contains(e, "option -lem_t_ksp_rtol = 'abc' is rejected by PETSc")) << e;
 }
 
 enum class Shape { round, square };

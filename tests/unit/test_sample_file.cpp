@@ -10,6 +10,7 @@
 #include <mpi.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -97,6 +98,23 @@ class SampleFileTest : public ::testing::Test {
       H5Sselect_hyperslab(space, H5S_SELECT_SET, start, nullptr, count, nullptr);
       const hid_t memory = H5Screate_simple(rank, count, nullptr);
       EXPECT_GE(H5Dwrite(set, H5T_NATIVE_INT64, memory, space, H5P_DEFAULT, &value), 0);
+      H5Sclose(memory);
+      H5Sclose(space);
+      H5Dclose(set);
+    });
+  }
+
+  /// Overwrite row `row` of a 2-D dataset with `values` (one per column).
+  template <class T>
+  static void set_row(const std::string& path, const char* dataset, hsize_t row,
+                      const std::vector<T>& values, hid_t memory_type) {
+    edit(path, [&](hid_t file) {
+      const hid_t set = H5Dopen2(file, dataset, H5P_DEFAULT);
+      const hid_t space = H5Dget_space(set);
+      const hsize_t start[2] = {row, 0}, count[2] = {1, values.size()};
+      H5Sselect_hyperslab(space, H5S_SELECT_SET, start, nullptr, count, nullptr);
+      const hid_t memory = H5Screate_simple(2, count, nullptr);
+      EXPECT_GE(H5Dwrite(set, memory_type, memory, space, H5P_DEFAULT, values.data()), 0);
       H5Sclose(memory);
       H5Sclose(space);
       H5Dclose(set);
@@ -225,13 +243,13 @@ TEST_F(SampleFileTest, MissingDatasetIsCorrupt) {
 TEST_F(SampleFileTest, BondEndOutOfRangeIsCorrupt) {
   const std::string path = written();
   poke(path, "/bonds/connectivity", 3, small().sample.stats.nodes + 5);
-  expect_input_error(path, "is corrupt: bond 3 joins nodes");
+  expect_input_error(path, "is corrupt: /bonds/connectivity row 3 joins nodes");
 }
 
 TEST_F(SampleFileTest, PhaseCodeOutOfRangeIsCorrupt) {
   const std::string path = written();
   poke(path, "/bonds/phase", 7, 9);
-  expect_input_error(path, "is corrupt: /bonds/phase code 9 is out of range");
+  expect_input_error(path, "is corrupt: /bonds/phase row 7 holds 9, out of range [0, 4]");
 }
 
 TEST_F(SampleFileTest, InconsistentSizesAreCorrupt) {
@@ -246,4 +264,22 @@ TEST_F(SampleFileTest, StatisticMissingFromAnOlderFileReadsAsZero) {
   const CementedSample s = read_sample(path);
   EXPECT_EQ(s.stats.interface_ratio, 0.0);
   EXPECT_EQ(s.stats.rho_m, small().sample.stats.rho_m);
+}
+
+TEST_F(SampleFileTest, RepeatedBondNamesTheFirstRepeat) {
+  const std::string path = written();
+  const auto& bonds = small().sample.lattice.bonds;
+  auto row = [&](std::size_t b) { return std::vector<std::int64_t>{bonds[b].i, bonds[b].j}; };
+  set_row(path, "/bonds/connectivity", 300, row(5), H5T_NATIVE_INT64);
+  set_row(path, "/bonds/connectivity", 100, row(40), H5T_NATIVE_INT64);
+  expect_input_error(path, "is corrupt: /bonds/connectivity row 100 repeats row 40");
+}
+
+TEST_F(SampleFileTest, NonFiniteCoordinateIsCorrupt) {
+  const std::string path = written();
+  const Point& p = small().sample.lattice.nodes[9];
+  set_row(path, "/nodes/coordinates", 9, std::vector<double>{p[0], p[1], NAN},
+          H5T_NATIVE_DOUBLE);
+  expect_input_error(path, "is corrupt: /nodes/coordinates row 9 = (");
+  expect_input_error(path, "nan) is not finite");
 }

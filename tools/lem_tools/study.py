@@ -32,6 +32,7 @@ import hashlib
 import json
 import math
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -48,6 +49,7 @@ ROOT = os.path.dirname(TOOLS)
 KEYS = {"name", "ranks", "sample", "matrix_fractions", "sigma_pm_ratios", "phases", "fracture"}
 PHASE_KEYS = {"E_p": 3.0, "E_m": 1.0, "E_pp": 1.0, "E_pm": 1.0, "sigma_p": 0.01}
 GRID_RANGES = {"matrix_fractions": (0.0, 0.5), "sigma_pm_ratios": (0.0, 100.0)}
+OPTION_NAME = re.compile(r"[A-Za-z][A-Za-z0-9_]*\Z")
 RESERVED_OPTIONS = {"matrix_fraction", "output_dir", "output_stem", "sample_file"}
 COMMANDS = ("plan", "samples", "calibrate", "run", "gather", "status", "all")
 EXIT_INTERRUPTED = 4  # lem_fracture: checkpoint written after SIGTERM / SIGUSR1
@@ -91,16 +93,34 @@ def load_study(path):
     unknown = sorted(set(s) - KEYS)
     if unknown:
         raise bad("unknown key(s) %s (allowed: %s)", ", ".join(unknown), ", ".join(sorted(KEYS)))
-    study = {"name": str(s.get("name", os.path.splitext(os.path.basename(path))[0])),
-             "ranks": s.get("ranks", 2), "sample": s.get("sample") or {},
-             "fracture": s.get("fracture") or {}}
+    def mapping(key):
+        """An optional mapping: absent or empty (None) is {}, anything else
+        that is not a mapping is an error (not silently {})."""
+        value = s.get(key)
+        if value is None:
+            return {}
+        if not isinstance(value, dict):
+            raise bad("%s must be a mapping, not %r", key, value)
+        return value
+
+    name = s.get("name", os.path.splitext(os.path.basename(path))[0])
+    if not isinstance(name, str) or not name.strip():
+        raise bad("name must be a non-empty text, not %r", name)
+    study = {"name": name, "ranks": s.get("ranks", 2), "sample": mapping("sample"),
+             "fracture": mapping("fracture")}
     ranks = study["ranks"]
     if not isinstance(ranks, int) or isinstance(ranks, bool) or ranks < 1:
         raise bad("ranks must be a positive integer, not %r", ranks)
     for key in ("sample", "fracture"):
-        if not isinstance(study[key], dict):
-            raise bad("%s must be a mapping of options", key)
         for option, value in study[key].items():
+            # The name becomes "-name" on the command line.
+            if not isinstance(option, str) or not OPTION_NAME.match(option):
+                raise bad("%s: %r is not an option name (letters, digits and _, without the "
+                          "dash)", key, option)
+            if isinstance(value, float) and not math.isfinite(value):
+                raise bad("%s.%s must be finite, not %r", key, option, value)
+            if isinstance(value, str) and not value.strip():
+                raise bad("%s.%s is empty: give a value", key, option)
             if not isinstance(value, (str, int, float, bool)):
                 raise bad("%s.%s must be a single value, not %r", key, option, value)
     for key, (low, high) in GRID_RANGES.items():
@@ -116,8 +136,8 @@ def load_study(path):
             raise bad("%s has repeated values", key)
         study[key] = [float(v) for v in values]
     phases = dict(PHASE_KEYS)
-    given = s.get("phases") or {}
-    if not isinstance(given, dict) or set(given) - set(PHASE_KEYS):
+    given = mapping("phases")
+    if set(given) - set(PHASE_KEYS):
         raise bad("phases accepts only %s", ", ".join(sorted(PHASE_KEYS)))
     for k, v in given.items():
         if not is_number(v) or v <= 0:

@@ -1,0 +1,127 @@
+"""Rewrite a lem_fracture checkpoint with one value changed and a valid
+checksum, for the tests that a checkpoint is checked beyond its checksum.
+
+Usage: craft_checkpoint.py SOURCE TARGET CASE      (--list: the cases)
+
+The layout (src/protocol/checkpoint.cpp): 8 magic bytes, the state (its
+size as u64, then its bytes), the fingerprint (u64 length, text), the
+damage history (bond events, bond batches, node events, node batches,
+builds: each u64 count then int64 values), the displacements (u64 count,
+doubles), and the 64-bit FNV-1a checksum of everything before it.
+"""
+import argparse
+import struct
+import sys
+
+VECTORS = ("bond_events", "bond_batches", "node_events", "node_batches", "build_batches")
+
+
+def fnv1a(data):
+    h = 1469598103934665603
+    for byte in data:
+        h = ((h ^ byte) * 1099511628211) & 0xFFFFFFFFFFFFFFFF
+    return h
+
+
+def parse(data):
+    pos = 8
+    c = {"magic": data[:8]}
+
+    def u64():
+        nonlocal pos
+        value = struct.unpack_from("<Q", data, pos)[0]
+        pos += 8
+        return value
+
+    size = u64()
+    c["state"] = data[pos:pos + size]
+    pos += size
+    n = u64()
+    c["fingerprint"] = data[pos:pos + n]
+    pos += n
+    for name in VECTORS:
+        n = u64()
+        c[name] = list(struct.unpack_from("<%dq" % n, data, pos))
+        pos += 8 * n
+    n = u64()
+    c["displacement"] = list(struct.unpack_from("<%dd" % n, data, pos))
+    pos += 8 * n
+    if pos + 8 != len(data) or struct.unpack_from("<Q", data, pos)[0] != fnv1a(data[:pos]):
+        raise SystemExit("not a checkpoint of this layout (or its checksum is wrong)")
+    return c
+
+
+def build(c):
+    out = bytearray(c["magic"])
+    out += struct.pack("<Q", len(c["state"])) + c["state"]
+    out += struct.pack("<Q", len(c["fingerprint"])) + c["fingerprint"]
+    for name in VECTORS:
+        out += struct.pack("<Q%dq" % len(c[name]), len(c[name]), *c[name])
+    out += struct.pack("<Q%dd" % len(c["displacement"]), len(c["displacement"]),
+                       *c["displacement"])
+    out += struct.pack("<Q", fnv1a(out))
+    return bytes(out)
+
+
+def nodes(c):
+    for line in c["fingerprint"].decode().splitlines():
+        if line.startswith("nodes="):
+            return int(line[6:])
+    raise SystemExit("no nodes= line in the fingerprint")
+
+
+def short_displacement(c):
+    del c["displacement"][-3:]
+
+
+def nan_displacement(c):
+    c["displacement"][5] = float("nan")
+
+
+def bond_not_in_sample(c):
+    c["bond_events"][2] = 10 ** 9
+
+
+def bond_broken_twice(c):
+    c["bond_events"][2] = c["bond_events"][1]
+
+
+def node_out_of_range(c):
+    c["node_events"].append(nodes(c) + 5)
+    c["node_batches"].append(c["bond_batches"][-1])
+
+
+def batch_beyond_state(c):
+    c["bond_batches"][-1] = 10 ** 6
+
+
+CASES = {f.__name__: f for f in (short_displacement, nan_displacement, bond_not_in_sample,
+                                  bond_broken_twice, node_out_of_range, batch_beyond_state)}
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("source", nargs="?")
+    parser.add_argument("target", nargs="?")
+    parser.add_argument("case", nargs="?", choices=sorted(CASES) + ["unchanged"])
+    parser.add_argument("--list", action="store_true", help="print the cases and stop")
+    args = parser.parse_args(argv)
+    if args.list:
+        print("\n".join(sorted(CASES)))
+        return 0
+    if not (args.source and args.target and args.case):
+        parser.error("SOURCE, TARGET and CASE are required")
+    with open(args.source, "rb") as f:
+        data = f.read()
+    c = parse(data)
+    if build(c) != data:
+        raise SystemExit("the rewrite of an unchanged checkpoint differs: layout misread")
+    if args.case != "unchanged":
+        CASES[args.case](c)
+    with open(args.target, "wb") as f:
+        f.write(build(c))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
