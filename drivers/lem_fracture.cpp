@@ -12,6 +12,7 @@
 #include "lem/options.hpp"
 #include "lem/phase.hpp"
 #include "lem/setup.hpp"
+#include "lem/stop.hpp"
 #include "lem/tension_output.hpp"
 
 #include <algorithm>
@@ -78,6 +79,7 @@ Case run_case(Prepared p, const lem::SolverOptions& solver, lem::FractureOptions
   system.assemble();
   c.result = lem::run_fracture(lattice, system, options, provenance);
   if (write_fields) {
+    lem::fault_pause(lattice.comm, "fields", "before the final fields");
     lem::Summary s;
     s.add("steps", static_cast<long long>(c.result.steps));
     lem::write_tension_fields(options.output_dir + "/fields", lattice, system, provenance, s);
@@ -189,7 +191,12 @@ lem::Calibration calibrate(MPI_Comm comm, const lem::SampleOptions& sample,
                                                                                   "broken.csv"});
   lem::say("calibration: the homogeneous lattice (every bond E^p = %g, sigma^p = %g)\n",
            sample.phases.modulus[0], sample.phases.strength[0]);
-  const Case hom_case = run_case(std::move(p), solver, hom_options, provenance, false);
+  Case hom_case;
+  try {
+    hom_case = run_case(std::move(p), solver, hom_options, provenance, false);
+  } catch (const lem::Interrupted& e) {
+    throw lem::Interrupted(std::string("calibration ") + e.what());
+  }
   warnings = hom_case.result.warnings;
   lem::run_on_root(comm, [&] { lem::remove_checkpoint(hom_options.output_dir); });
   lem::Calibration c;
@@ -197,13 +204,20 @@ lem::Calibration calibrate(MPI_Comm comm, const lem::SampleOptions& sample,
   c.e_hom = hom_case.result.young_modulus * hom_case.stress_unit;
   lem::say("calibration: sigma^[p] = %.6g, E^[p] = %.6g (E^phase units)\n", c.sigma_hom,
            c.e_hom);
+  std::string stored = "stored in " + path;
   try {
     lem::write_calibration(comm, path, fingerprint, c, provenance);
     lem::say("calibration: stored in %s\n", path.c_str());
   } catch (const lem::IoError& e) {
     if (chosen) throw;
     lem::say("calibration: not stored (%s)\n", e.what());  // e.g. a read-only sample folder
+    stored = "not stored (" + std::string(e.what()) + "), so the next run calibrates again";
   }
+  // A request that came while the calibration ended: stop before the sample.
+  if (const int signal = lem::stop_requested(comm, "calibration_done"))
+    throw lem::Interrupted("stopped by " + lem::signal_name(signal) + " after the calibration: "
+                           "sigma^[p] and E^[p] " + stored + "; run the same command again "
+                           "to break the sample");
   return c;
 }
 
@@ -262,6 +276,9 @@ int main(int argc, char** argv) {
     // The sample is read and checked before -output_dir is touched: bad input
     // must not cost an earlier result.
     Prepared prepared = prepare(comm, sample, break_strain, options);
+    if (const int signal = lem::stop_requested(comm, "sample_read"))
+      throw lem::Interrupted("stopped by " + lem::signal_name(signal) + " before anything was "
+                             "written; run the same command again");
     const std::string fingerprint = result_fingerprint(prepared.lattice, options, calibrating,
                                                        sigma_unit, modulus_unit, fields);
 
@@ -408,5 +425,9 @@ int main(int argc, char** argv) {
       lem::remove_checkpoint(dir);
     });
     lem::say("results in %s/\n", dir.c_str());
-  });
+    if (const int signal = lem::stop_requested(comm, "committed"))
+      throw lem::Interrupted("stopped by " + lem::signal_name(signal) + " while the results "
+                             "were written; they are complete in " + dir + "/ (manifest.txt), "
+                             "so running the same command again does nothing");
+  }, lem::StopHandling::save_and_exit);
 }

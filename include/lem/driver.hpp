@@ -10,10 +10,19 @@
 
 namespace lem {
 
+/// What SIGTERM and SIGUSR1 do to a driver: end it (the default action), or
+/// ask it to save its state and exit 4 (stop.hpp; the driver reads the
+/// request at its stop points).
+enum class StopHandling { end_process, save_and_exit };
+
 /// Exit codes (exit_status in error.hpp): 0 success, 1 bad input,
 /// 2 numerical failure, 3 other error, 4 stopped by a signal after a
-/// checkpoint (rerun to resume).
+/// checkpoint (rerun to resume).  With StopHandling::save_and_exit the stop
+/// handler lives from before PetscInitialize to the return, and a stop
+/// signal that no stop point saw turns a success into exit 4 too: the work
+/// was complete, so running the same command again has nothing to redo.
 int run_driver(int argc, char** argv, const char* help,
-               const std::function<void(MPI_Comm)>& body);
+               const std::function<void(MPI_Comm)>& body,
+               StopHandling stops = StopHandling::end_process);
 
 }  // namespace lem

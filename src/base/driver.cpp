@@ -2,6 +2,7 @@
 
 #include "lem/error.hpp"
 #include "lem/options.hpp"
+#include "lem/stop.hpp"
 
 #include <petscsys.h>
 
@@ -11,7 +12,9 @@
 namespace lem {
 
 int run_driver(int argc, char** argv, const char* help,
-               const std::function<void(MPI_Comm)>& body) {
+               const std::function<void(MPI_Comm)>& body, StopHandling stops) {
+  const bool handle_stops = stops == StopHandling::save_and_exit;
+  if (handle_stops) install_stop_handler();  // MPI start-up can take a while
   // PETSc cannot start on a missing options file: say which, once.
   const std::string unreadable = unreadable_options_file(argc, argv);
   if (!unreadable.empty()) {
@@ -23,6 +26,7 @@ int run_driver(int argc, char** argv, const char* help,
     return 1;
   }
   if (PetscInitialize(&argc, &argv, nullptr, help)) return 3;
+  if (handle_stops) install_stop_handler();  // in case PETSc took the signals
   take_over_petsc_errors();
   int status = 0;
   int rank = 0;
@@ -32,6 +36,11 @@ int run_driver(int argc, char** argv, const char* help,
     std::string message;
     try {
       body(PETSC_COMM_WORLD);
+      // A request that came after the body's last stop point.
+      if (handle_stops)
+        if (const int signal = stop_requested(PETSC_COMM_WORLD, "driver_end"))
+          throw Interrupted(signal_name(signal) + " came after the work was complete: nothing "
+                            "to resume");
     } catch (const HelpShown& e) {
       if (rank == 0) std::printf("\n%s\n", e.what());
     } catch (const std::exception& e) {
@@ -44,6 +53,15 @@ int run_driver(int argc, char** argv, const char* help,
     status = ends.finish(status, message);
   }
   PetscFinalize();
+  if (handle_stops) {
+    install_stop_handler();  // PETSc may have restored the default actions
+    // Past the last collective: this rank alone reports it.
+    if (status == 0 && stop_signal_received() != 0) {
+      std::fprintf(stderr, "interrupted: %s came while the run was ending; its work is "
+                   "complete\n", signal_name(stop_signal_received()).c_str());
+      status = 4;
+    }
+  }
   return status;
 }
 

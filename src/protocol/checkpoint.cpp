@@ -31,9 +31,6 @@ void get(ByteReader& r, DamageHistory& h) {
   r.vec(h.build_batches);
 }
 
-volatile std::sig_atomic_t g_stop_signal = 0;
-extern "C" void remember_signal(int signal) { g_stop_signal = signal; }
-
 }  // namespace
 
 void write_checkpoint_file(const std::string& path, const Checkpoint& c) {
@@ -199,26 +196,6 @@ std::string fingerprint_differences(const std::string& theirs, const std::string
       differs += "\n  " + std::string(label) + ": " + a[i] + "   this run: " + b[i];
   }
   return differs;
-}
-
-StopSignals::StopSignals() {
-  g_stop_signal = 0;
-  struct sigaction action {};
-  action.sa_handler = remember_signal;
-  sigemptyset(&action.sa_mask);
-  sigaction(SIGTERM, &action, &old_term_);
-  sigaction(SIGUSR1, &action, &old_usr1_);
-}
-
-StopSignals::~StopSignals() {
-  sigaction(SIGTERM, &old_term_, nullptr);
-  sigaction(SIGUSR1, &old_usr1_, nullptr);
-}
-
-bool StopSignals::requested(MPI_Comm comm) const {
-  int mine = g_stop_signal, any = 0;
-  MPI_Allreduce(&mine, &any, 1, MPI_INT, MPI_MAX, comm);
-  return any != 0;
 }
 
 CheckpointStore::CheckpointStore(const DistributedLattice& lattice, std::string path,

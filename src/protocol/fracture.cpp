@@ -1,7 +1,8 @@
 // The fracture protocol: strings the parts of fracture/ together.  Each load
 // step is either idle (the field is scaled, exact) or evaluated: scaled or
 // solved at the new load, then relaxed until no bond is critical.  Between
-// steps the run may checkpoint, stop on a signal or end.
+// steps the run may checkpoint, stop on a signal or end; between relaxation
+// cycles it may stop on a signal, saving the equilibrium before the step.
 #include "lem/fracture.hpp"
 
 #include "lem/driver.hpp"
@@ -16,6 +17,7 @@
 #include "lem/protocol/relaxation.hpp"
 #include "lem/protocol/warnings.hpp"
 #include "lem/options.hpp"
+#include "lem/stop.hpp"
 
 #include <cmath>
 #include <memory>
@@ -24,6 +26,13 @@
 namespace lem {
 
 namespace {
+
+// A stop request seen between relaxation cycles of `step`.
+struct StopInRelaxation {
+  int signal;
+  std::int64_t step;
+  int cycles;
+};
 
 std::unique_ptr<Relaxation> make_relaxation(const RelaxationParts& parts) {
   if (parts.options.relaxation == RelaxationScheme::local)
@@ -39,8 +48,9 @@ class Protocol {
         solver_(s, ledger_, {o.rebuild_after_ruptures, o.rebuild_iteration_growth},
                 state_.preconditioner, state_.tally),
         recorder_(l, s, o, provenance), progress_(o),
-        relaxation_(make_relaxation(RelaxationParts{l, s, o, critical_, ledger_, solver_,
-                                                    recorder_, progress_, clock_, state_.tally})),
+        relaxation_(make_relaxation(RelaxationParts{
+            l, s, o, critical_, ledger_, solver_, recorder_, progress_, clock_, state_.tally,
+            [this](std::int64_t step, int cycles) { stop_between_cycles(step, cycles); }})),
         checkpoint_(l, checkpoint_path(o.output_dir), fracture_fingerprint(l, o)),
         warnings_(o) {}
 
@@ -57,6 +67,7 @@ class Protocol {
   void note_peak(const TensionResponse& r);
   void hold_equilibrium();
   void save_checkpoint();
+  void stop_between_cycles(std::int64_t step, int cycles);
   std::string end_reason() const;
 
   DistributedLattice& l_;
@@ -74,6 +85,7 @@ class Protocol {
   CheckpointStore checkpoint_;
   RunWarnings warnings_;
   bool disconnected_ = false;
+  bool holding_ = false;             // an equilibrium is held (not in the first step)
   std::int64_t last_visit_ = 0;      // step of the previous evaluated step (snapshots)
   double last_checkpoint_time_ = 0;  // MPI_Wtime
 };
@@ -148,6 +160,17 @@ void Protocol::hold_equilibrium() {
   FractureState held = state_;
   held.seconds_before = clock_.elapsed();
   checkpoint_.hold(held, ledger_.mark(), system_.solution());
+  holding_ = true;
+}
+
+void Protocol::stop_between_cycles(std::int64_t step, int cycles) {
+  // A load step's relaxation can last minutes (avalanches of tens of
+  // cycles).  Its intermediate states are not saved: the equilibrium held
+  // before the step is, and a resumed run computes the whole step again,
+  // exactly as the uninterrupted run does.  The first step holds nothing.
+  if (!holding_) return;
+  if (const int signal = stop_requested(l_.comm, "relaxation_cycle"))
+    throw StopInRelaxation{signal, step, cycles};
 }
 
 void Protocol::save_checkpoint() {
@@ -170,7 +193,6 @@ std::string Protocol::end_reason() const {
 }
 
 FractureResult Protocol::run() {
-  StopSignals signals;
   clock_.start = last_checkpoint_time_ = MPI_Wtime();
   if (l_.bond_strength.empty())
     throw std::logic_error("run_fracture: the lattice has no breaking thresholds");
@@ -196,7 +218,7 @@ FractureResult Protocol::run() {
     end = end_reason();
     if (!end.empty()) break;
 
-    const bool signal = signals.requested(l_.comm);
+    const int signal = stop_requested(l_.comm, "load_step");
     double since = MPI_Wtime() - last_checkpoint_time_;
     MPI_Bcast(&since, 1, MPI_DOUBLE, 0, l_.comm);  // one decision for every rank
     const bool by_steps = o_.checkpoint_steps > 0 && tally_.steps >= state_.next_checkpoint_step;
@@ -206,9 +228,9 @@ FractureResult Protocol::run() {
       hold_equilibrium();
       save_checkpoint();
       if (signal)
-        throw Interrupted("stopped by a signal at step " + std::to_string(tally_.steps) +
-                          "; checkpoint written to " + checkpoint_.path() +
-                          "; run the same command again to resume");
+        throw Interrupted("stopped by " + signal_name(signal) + " at step " +
+                          std::to_string(tally_.steps) + "; checkpoint written to " +
+                          checkpoint_.path() + "; run the same command again to resume");
     }
 
     const std::int64_t next = o_.skip_idle
@@ -230,8 +252,17 @@ FractureResult Protocol::run() {
                            std::to_string(checkpoint_.held_state().tally.steps) + " is saved in " +
                            checkpoint_.path() + ": rerun (e.g. with other -ksp_/-pc_ options) "
                            "to resume from it");
+    } catch (const StopInRelaxation& stop) {
+      save_checkpoint();
+      throw Interrupted("stopped by " + signal_name(stop.signal) + " in the relaxation of step " +
+                        std::to_string(stop.step) + " after " + std::to_string(stop.cycles) +
+                        (stop.cycles == 1 ? " cycle" : " cycles") + "; the equilibrium of step " +
+                        std::to_string(checkpoint_.held_state().tally.steps) +
+                        " is saved in " + checkpoint_.path() + ": run the same command again "
+                        "to resume (step " + std::to_string(stop.step) + " is computed again)");
     }
   }
+  fault_pause(l_.comm, "fracture_end", "after the last load step");
 
   const TensionResponse r = system_.response();
   FractureResult result;

@@ -123,6 +123,7 @@ RelaxationOutcome LocalRelaxation::relax(std::int64_t step, double top_displacem
                                          double strain, double stress_before) {
   RelaxationOutcome out;
   for (;;) {
+    next_cycle(step, out);
     // The field is a global equilibrium here: its decisions are exact.
     const std::vector<Rupture> batch = p_.critical.find(p_.system.bond_tensions());
     if (batch.empty()) break;

@@ -77,10 +77,15 @@ bool Relaxation::stress_fell(double stress_before) const {
              p_.options.stop_fraction * std::max(p_.tally.peak_stress, stress_before);
 }
 
+void Relaxation::next_cycle(std::int64_t step, const RelaxationOutcome& out) const {
+  if (out.cycles > 0 && p_.between_cycles) p_.between_cycles(step, out.cycles);
+}
+
 RelaxationOutcome GlobalRelaxation::relax(std::int64_t step, double top_displacement,
                                           double strain, double stress_before) {
   RelaxationOutcome out;
   for (;;) {
+    next_cycle(step, out);
     const std::vector<Rupture> critical = p_.critical.find(p_.system.bond_tensions());
     if (critical.empty()) break;
     const bool joined = break_batch(critical, step, out.cycles, strain);

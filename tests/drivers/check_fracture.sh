@@ -95,7 +95,7 @@ restart_kill|restart_signal)
     kill -USR1 "$leader"
     wait "$leader"; status=$?
     [ "$status" -ne 0 ] || fail "the signalled run exited 0"
-    grep -q "stopped by a signal" "$work/cut/log1" || fail "no signal message: $(tail -3 "$work/cut/log1")"
+    grep -q "stopped by SIGUSR1" "$work/cut/log1" || fail "no signal message: $(tail -3 "$work/cut/log1")"
   fi
   [ ! -e "$work/cut/curve.csv" ] || fail "an interrupted run left curve.csv looking complete"
   run 2 "$work/cut" "${args[@]}" || fail "resumed run: $(tail -3 "$work/cut/log")"

@@ -3,6 +3,11 @@ import csv
 import json
 import math
 import os
+import signal
+import sys
+import textwrap
+import threading
+import time
 
 import pytest
 
@@ -207,3 +212,43 @@ def test_status_command_counts(made_study, capsys):
 def test_index_out_of_range(made_study):
     with pytest.raises(StudyError, match="the study has 4 runs"):
         made_study.run_all(index=4)
+
+
+def test_execute_hands_sigterm_on_as_sigusr1(tmp_path):
+    """Open MPI's mpirun kills the ranks on SIGTERM and passes SIGUSR1 on, so
+    the study turns a SIGTERM it gets into SIGUSR1 for its child."""
+    ready, got = tmp_path / "ready", tmp_path / "got"
+    child = tmp_path / "child.py"
+    child.write_text(textwrap.dedent(f"""
+        import signal, sys, time
+        def stop(number, _):
+            open({str(got)!r}, "w").write(signal.Signals(number).name)
+            sys.exit(4)
+        for s in (signal.SIGUSR1, signal.SIGTERM):
+            signal.signal(s, stop)
+        open({str(ready)!r}, "w").close()
+        time.sleep(60)
+        """))
+
+    def signal_the_study():
+        for _ in range(1000):
+            if ready.exists():
+                break
+            time.sleep(0.01)
+        os.kill(os.getpid(), signal.SIGTERM)
+
+    threading.Thread(target=signal_the_study).start()
+    assert study.execute([sys.executable, str(child)], str(tmp_path / "log")) == 4
+    assert got.read_text() == "SIGUSR1"
+
+
+def test_an_interrupted_run_stops_the_others(made_study, monkeypatch):
+    started = []
+
+    def run_one(run):
+        started.append(run["id"])
+        return study.EXIT_INTERRUPTED
+
+    monkeypatch.setattr(made_study, "run_one", run_one)
+    assert made_study.run_all() == study.EXIT_INTERRUPTED
+    assert len(started) == 1

@@ -240,7 +240,7 @@ class Study:
         lattice) underlies every sample, so one calibration serves them all."""
         if self.calibration():
             print("calibration: complete")
-            return
+            return 0
         rho = self.spec["matrix_fractions"][0]
         out_dir = os.path.join(self.out, "calibration")
         os.makedirs(out_dir, exist_ok=True)
@@ -248,8 +248,13 @@ class Study:
                                     ["-fracture_max_steps", "1", "-output_fields", "false"])
         print("calibration: " + " ".join(cmd), flush=True)
         log = os.path.join(out_dir, "log")
-        if execute(cmd, log) != 0:
+        status = execute(cmd, log)
+        if status == EXIT_INTERRUPTED:
+            print("calibration: interrupted after a checkpoint; run it again to resume")
+            return status
+        if status != 0:
             raise StudyError("calibration failed (log: %s): %s" % (log, tail(log)))
+        return 0
 
     def run_record(self, run):
         return dict(run, study_hash=self.hash, sample=os.path.abspath(
@@ -311,9 +316,11 @@ class Study:
     def run_all(self, index=None):
         runs = self.runs()
         chosen = runs if index is None else [pick(runs, index, "run")]
-        statuses = [self.run_one(r) for r in chosen]
-        if any(s == EXIT_INTERRUPTED for s in statuses):
-            return EXIT_INTERRUPTED
+        statuses = []
+        for r in chosen:
+            statuses.append(self.run_one(r))
+            if statuses[-1] == EXIT_INTERRUPTED:
+                return EXIT_INTERRUPTED  # a stop request: start no other run
         return 0 if all(s == 0 for s in statuses) else 1
 
     def status(self):
@@ -341,16 +348,17 @@ def mpirun(ranks):
 
 
 def execute(cmd, log):
-    """Run cmd with its output in log; SIGUSR1 / SIGTERM (Slurm's warning
-    before the time limit) are passed on to it, so that lem_fracture writes
-    its checkpoint."""
+    """Run cmd with its output in log.  SIGUSR1 and SIGTERM (Slurm's warning
+    before the time limit, a job being stopped) reach it as SIGUSR1, so that
+    lem_fracture writes its checkpoint and exits 4: Open MPI's mpirun passes
+    SIGUSR1 on to the ranks, but kills them on SIGTERM and exits 1."""
     with open(log, "w") as f:
         try:
             proc = subprocess.Popen(cmd, stdout=f, stderr=subprocess.STDOUT)
         except OSError as e:
             f.write(str(e) + "\n")
             return 127
-        previous = {s: signal.signal(s, lambda number, _: proc.send_signal(number))
+        previous = {s: signal.signal(s, lambda *_: proc.send_signal(signal.SIGUSR1))
                     for s in (signal.SIGUSR1, signal.SIGTERM)}
         try:
             return proc.wait()
@@ -384,9 +392,11 @@ def do(args):
     study.plan()
     if command in ("samples", "all"):
         study.make_samples(index if command == "samples" else None)
-    if command in ("calibrate", "all"):
-        study.calibrate()
     status = 0
+    if command in ("calibrate", "all"):
+        status = study.calibrate()
+        if status == EXIT_INTERRUPTED:
+            return status
     if command in ("run", "all"):
         status = study.run_all(index if command == "run" else None)
     if command == "status":

@@ -1,4 +1,4 @@
-// Checkpoints of a fracture run and the signals that ask for one.
+// Checkpoints of a fracture run (the signals that ask for one: lem/stop.hpp).
 //
 // A checkpoint holds the state at the last equilibrium (counters, the damage
 // history, displacements by lattice node id) and a fingerprint of the sample
@@ -14,7 +14,6 @@
 
 #include <mpi.h>
 
-#include <csignal>
 #include <string>
 #include <vector>
 
@@ -43,20 +42,6 @@ std::string fracture_fingerprint(const DistributedLattice& lattice,
 /// theirs when it does (0 otherwise).
 std::string fingerprint_differences(const std::string& theirs, const std::string& ours,
                                     int& other_ranks, const char* label = "checkpoint");
-
-/// While alive, SIGTERM and SIGUSR1 only raise a flag; requested() asks
-/// every rank whether any got one.
-class StopSignals {
- public:
-  StopSignals();
-  ~StopSignals();
-  StopSignals(const StopSignals&) = delete;
-  StopSignals& operator=(const StopSignals&) = delete;
-  bool requested(MPI_Comm comm) const;  // collective
-
- private:
-  struct sigaction old_term_ {}, old_usr1_ {};
-};
 
 /// <output_dir>/checkpoint.bin.
 std::string checkpoint_path(const std::string& output_dir);

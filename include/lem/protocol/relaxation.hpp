@@ -18,6 +18,7 @@
 #include "lem/pieces.hpp"
 
 #include <cstdint>
+#include <functional>
 
 namespace lem {
 
@@ -39,6 +40,10 @@ struct RelaxationParts {
   ProgressReporter& progress;
   const RunClock& clock;
   FractureTally& tally;
+  /// Called between relaxation cycles of load step `step`, after `cycles`
+  /// of them, on every rank (each cycle ends on a global solve); it may
+  /// throw to leave the relaxation there (a stop request).
+  std::function<void(std::int64_t step, int cycles)> between_cycles = {};
 };
 
 class Relaxation {
@@ -66,6 +71,8 @@ class Relaxation {
   SolveReport solve_for_decision(double top_displacement);
   /// options.stop_within_step and the stress has fallen below the stop level.
   bool stress_fell(double stress_before) const;
+  /// Before every cycle but the first: RelaxationParts::between_cycles.
+  void next_cycle(std::int64_t step, const RelaxationOutcome& out) const;
 
   RelaxationParts p_;
 
