@@ -2,8 +2,9 @@
 # A checkpoint that passes its checksum but does not fit the run is refused
 # (exit 1, the file and the bad value named) instead of being resumed: wrong
 # sizes, non-finite values, ids out of range, batches out of order.  The
-# checkpoint comes from a run stopped by a failing solve (exit 2, no signal
-# needed); tests/drivers/craft_checkpoint.py rewrites it with one value
+# checkpoint comes from a run stopped by a failing solve (the 40th, by the
+# test hook LEM_FAULT_SOLVE_FAIL: exit 2, no signal needed);
+# tests/drivers/craft_checkpoint.py rewrites it with one value
 # changed and a valid checksum.  Unchanged, it resumes.
 # Usage: check_crafted_checkpoint.sh LEM_FRACTURE WORKDIR
 set -u
@@ -13,8 +14,7 @@ args=(-lattice_bonds 6000 -lattice_seed 3 -strength_disorder uniform
       -fracture_stop_fraction 0.3 -output_fields false)
 fail() { echo "FAIL: $*"; exit 1; }
 rm -rf "$work"; mkdir -p "$work"
-"$prog" "${args[@]}" -output_dir "$work/source" -ksp_max_it 24 -fallback_ksp_max_it 10 \
-  > "$work/source.log" 2>&1
+LEM_FAULT_SOLVE_FAIL=40 "$prog" "${args[@]}" -output_dir "$work/source" > "$work/source.log" 2>&1
 status=$?
 [ "$status" -eq 2 ] && [ -s "$work/source/checkpoint.bin" ] ||
   fail "no checkpoint from the failing run (exit $status): $(tail -2 "$work/source.log")"
