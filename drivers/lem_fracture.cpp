@@ -365,6 +365,7 @@ int main(int argc, char** argv) {
     s.add("relaxation_cycles", static_cast<long long>(r.relaxation_cycles));
     s.add("solves", static_cast<long long>(r.solves));
     s.add("early_stops", static_cast<long long>(r.early_stops));
+    s.add("tie_solves", static_cast<long long>(r.tie_solves));
     s.add("ksp_iterations", static_cast<long long>(r.iterations));
     s.add("pc_builds", static_cast<long long>(r.preconditioner_builds));
     s.add("fallback_solves", static_cast<long long>(r.fallback_solves));

@@ -91,6 +91,11 @@ class ElasticSystem {
   /// test says so; the state is then no equilibrium (rescale() refuses it)
   /// until the next full solve.
   SolveReport solve(double top_displacement, const EarlyStop* early = nullptr);
+  /// The same to relative tolerance `rtol` instead of -ksp_rtol (the
+  /// fallback solver too); the tolerances are restored afterwards.
+  SolveReport solve_to(double rtol, double top_displacement);
+  /// -ksp_rtol.
+  double rtol() const;
 
   /// Keep the current preconditioner for later solves even when K changes
   /// (it is built anyway by the first solve).  rebuild_preconditioner() makes

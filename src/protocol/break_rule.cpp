@@ -24,7 +24,13 @@ double first_breaking_step(std::int64_t step, double tension, double threshold,
   return std::floor(static_cast<double>(step) * f / tension) + 1.0;
 }
 
-CriticalBonds::CriticalBonds(const DistributedLattice& l, BreakRule rule)
+double doubt_edge(double level, double band) { return std::max(level - band, 0.5 * level); }
+
+bool in_doubt(double tension, double level, double band) {
+  return band > 0 && tension > doubt_edge(level, band) && tension <= level + band;
+}
+
+CriticalBonds::CriticalBonds(const DistributedLattice& l, BreakRule rule, double tie_band)
     : lattice_(l), rule_(rule) {
   // Forces below the floor are solver noise.
   double sums[2] = {0, 0}, totals[2];
@@ -34,6 +40,21 @@ CriticalBonds::CriticalBonds(const DistributedLattice& l, BreakRule rule)
   MPI_Allreduce(sums, totals, 2, MPI_DOUBLE, MPI_SUM, l.comm);
   mean_threshold_ = totals[1] > 0 ? totals[0] / totals[1] : 1.0;
   force_floor_ = totals[1] > 0 ? 1e-6 * totals[0] / totals[1] : 0.0;
+  band_ = tie_band * mean_threshold_;
+}
+
+double CriticalBonds::level(int b) const {
+  return std::max(lattice_.bond_strength[b], force_floor_);
+}
+
+bool CriticalBonds::in_doubt(const std::vector<double>& tension) const {
+  const DistributedLattice& l = lattice_;
+  int mine = 0, any = 0;
+  for (int b = 0; b < l.local_bonds() && band_ > 0 && !mine; ++b)
+    mine = l.bond_reported[b] && l.bond_stiffness[b] > 0 &&
+           lem::in_doubt(tension[b], level(b), band_);
+  MPI_Allreduce(&mine, &any, 1, MPI_INT, MPI_MAX, l.comm);
+  return any != 0;
 }
 
 std::vector<Rupture> CriticalBonds::find(const std::vector<double>& tension) const {
@@ -80,8 +101,8 @@ bool CriticalBonds::decided(const std::vector<double>& tension,
     if (!l.bond_reported[b] || l.bond_stiffness[b] <= 0) continue;
     const double t = tension[b];
     const double error = safety * std::abs(t - earlier[b]);
-    const double level = std::max(l.bond_strength[b], force_floor_);
-    if (!std::isfinite(t) || std::abs(t - level) <= error) {
+    const double level = this->level(b);
+    if (!std::isfinite(t) || std::abs(t - level) <= error || lem::in_doubt(t, level, band_)) {
       counts[1] += 1;  // a non-finite force is left to the full solve (find() names it)
       break;
     }
@@ -97,8 +118,10 @@ std::int64_t CriticalBonds::next_step(const std::vector<double>& tension, std::i
   double first = std::numeric_limits<double>::infinity();
   for (int b = 0; b < l.local_bonds(); ++b) {
     if (!l.bond_reported[b] || l.bond_stiffness[b] <= 0 || !(tension[b] > 0)) continue;
-    first = std::min(first, first_breaking_step(step, tension[b], l.bond_strength[b],
-                                                force_floor_));
+    // From the edge of the doubt band: a near-tie is then met at a step that
+    // is evaluated (and re-solved), never skipped over on one rank count.
+    first = std::min(first,
+                     first_breaking_step(step, tension[b], doubt_edge(level(b), band_), 0.0));
   }
   double global = 0;
   MPI_Allreduce(&first, &global, 1, MPI_DOUBLE, MPI_MIN, l.comm);

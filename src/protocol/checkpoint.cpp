@@ -170,6 +170,10 @@ std::string fracture_fingerprint(const DistributedLattice& l, const FractureOpti
   if (o.decision_safety > 0)
     s << "\ndecision_safety=" << o.decision_safety
       << "\ndecision_interval=" << o.decision_interval;
+  // Only when changed, so that keys made before the rule existed still match.
+  const FractureOptions defaults;
+  if (o.tie_band != defaults.tie_band || o.tie_rtol != defaults.tie_rtol)
+    s << "\ntie_band=" << o.tie_band << "\ntie_rtol=" << o.tie_rtol;
   s << "\n";
   // Solver options are left out on purpose: a run stopped by a failed solve
   // may be resumed with others (then equal to the tolerance, not bitwise).

@@ -125,7 +125,7 @@ RelaxationOutcome LocalRelaxation::relax(std::int64_t step, double top_displacem
   for (;;) {
     next_cycle(step, out);
     // The field is a global equilibrium here: its decisions are exact.
-    const std::vector<Rupture> batch = p_.critical.find(p_.system.bond_tensions());
+    const std::vector<Rupture> batch = next_batch(top_displacement);
     if (batch.empty()) break;
     bool joined = break_batch(batch, step, out.cycles, strain);
     note_batch(step, batch, out);

@@ -76,6 +76,15 @@ FractureOptions read_fracture_options(MPI_Comm comm) {
     o.decision_interval = static_cast<int>(g.integer(
         "-fracture_decision_interval", "CG iterations between two decision checks (each "
         "computes every bond force, about one matrix product)", o.decision_interval, 1, 1000));
+    o.tie_band = g.real(
+        "-fracture_tie_band", "Near-ties: a bond whose force differs from its level (threshold, "
+        "or the force floor) by less than this times -ksp_rtol times the mean positive "
+        "threshold, and exceeds half that level, is decided on a re-solve to "
+        "-fracture_tie_rtol, so that solver noise (which depends on the rank count) decides no "
+        "rupture.  0: decide on the field as solved", o.tie_band, 0.0, 1e12);
+    o.tie_rtol = g.real("-fracture_tie_rtol", "Relative tolerance of the re-solve that decides "
+                        "near-ties (-fracture_tie_band); none when -ksp_rtol is not above it",
+                        o.tie_rtol, 0.0, 1.0, true);
   }
   {
     OptionGroup g(comm, "Warnings of a degraded result (docs/fracture.md, \"Warnings\")");

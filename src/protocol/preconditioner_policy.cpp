@@ -31,7 +31,14 @@ PreconditionerPolicy::PreconditionerPolicy(ElasticSystem& system, DamageLedger& 
 
 SolveReport PreconditionerPolicy::solve(double top_displacement, bool relaxation,
                                         const EarlyStop* early) {
-  const SolveReport report = system_.solve(top_displacement, early);
+  return count(system_.solve(top_displacement, early), relaxation);
+}
+
+SolveReport PreconditionerPolicy::solve_to(double rtol, double top_displacement) {
+  return count(system_.solve_to(rtol, top_displacement), false);
+}
+
+SolveReport PreconditionerPolicy::count(const SolveReport& report, bool relaxation) {
   tally_.solves += 1;
   tally_.early_stops += report.stopped_early;
   tally_.iterations += report.iterations;

@@ -277,6 +277,36 @@ SolveReport ElasticSystem::solve(double top_displacement, const EarlyStop* early
   return report;
 }
 
+SolveReport ElasticSystem::solve_to(double rtol, double top_displacement) {
+  // Both solvers, since a failed multigrid solve is finished by the fallback.
+  struct Tolerance {
+    KSP ksp;
+    PetscReal rtol = 0, abstol = 0, dtol = 0;
+    PetscInt max_it = 0;
+  } kept[2];
+  kept[0].ksp = ksp_;
+  kept[1].ksp = fallback_ksp_;
+  for (Tolerance& t : kept) {
+    LEM_PETSC(KSPGetTolerances(t.ksp, &t.rtol, &t.abstol, &t.dtol, &t.max_it));
+    LEM_PETSC(KSPSetTolerances(t.ksp, rtol, t.abstol, t.dtol, t.max_it));
+  }
+  SolveReport report;
+  try {
+    report = solve(top_displacement);
+  } catch (...) {
+    for (Tolerance& t : kept) KSPSetTolerances(t.ksp, t.rtol, t.abstol, t.dtol, t.max_it);
+    throw;
+  }
+  for (Tolerance& t : kept) LEM_PETSC(KSPSetTolerances(t.ksp, t.rtol, t.abstol, t.dtol, t.max_it));
+  return report;
+}
+
+double ElasticSystem::rtol() const {
+  PetscReal rtol = 0;
+  LEM_PETSC(KSPGetTolerances(ksp_, &rtol, nullptr, nullptr, nullptr));
+  return rtol;
+}
+
 // The KSP's own convergence test (as configured by KSPSetFromOptions), then,
 // during a solve given an EarlyStop, that test every `interval`
 // iterations.  The iterate of CG is the solution vector itself, updated in

@@ -5,7 +5,7 @@
 # sound run warns of nothing.  lem_fracture at 1 rank (an MPI singleton).
 # Usage: check_warnings.sh MODE LEM_FRACTURE WORKDIR [MESHES_DIR]
 #   default   the paper's increment on a 3000-bond lattice: no warning
-#   energy    -ksp_rtol 1e-2: energy_balance
+#   energy    -ksp_rtol 1e-2 -fracture_tie_band 0: energy_balance
 #   fallback  -ksp_max_it 2: fallback_solver, said at the first one and counted
 #   coarse    -fracture_increment 1e-3 on the lattice (peak at step 4): coarse_increment
 #   mini      the mini sample: none at 3e-4, coarse_increment at 0.009
@@ -63,7 +63,11 @@ silent() {
 
 case "$mode" in
 default) silent default "${lattice[@]}" ;;
-energy) warns energy energy_balance "-ksp_rtol" "${lattice[@]}" -ksp_rtol 1e-2 ;;
+# Without -fracture_tie_band 0, nearly every decision of so loose a solve is
+# in doubt and re-solved to -fracture_tie_rtol: the balance error is then
+# 2.6e-5, below the threshold.  The warning is for decisions taken on loose
+# fields.
+energy) warns energy energy_balance "-ksp_rtol" "${lattice[@]}" -ksp_rtol 1e-2 -fracture_tie_band 0 ;;
 fallback)
   warns fallback fallback_solver "-ksp_max_it" "${lattice[@]}" -ksp_max_it 2
   # Said when it first happens (step 1), then counted at the end.

@@ -13,6 +13,11 @@
   fracture_check.py curves A B TOL
       rows of A's curve found in B: same broken counts, stresses within TOL
       of B's peak (used by check_fracture.sh).
+  fracture_check.py ruptures A B TOL [--pre-peak TOL2]
+      runs A and B break the same bonds in the same order (step, cycle, bond
+      id of broken.csv), naming the first rupture that differs, and their
+      curves agree within TOL of the peak as functions of the strain (their
+      evaluated steps may differ), within TOL2 up to the peak.
 
 LEM_TEST_EXTRA_ARGS (environment) is appended to the command line of fcc and
 gold runs: it exists to show that a test fails on a changed protocol, e.g.
@@ -277,6 +282,40 @@ def curves(a):
         sys.exit(f"FAIL: stress differs by {worst:.2e} of the peak (tolerance {a.tol})")
 
 
+# ---------------------------------------------------------------- ruptures
+def ruptures(a):
+    """The whole rupture sequence of A equals B's; then the curves."""
+    def text(r):
+        return (f"step {r['step']} cycle {r['cycle']} bond {r['bond_id']} ({r['phase']}, "
+                f"force {float(r['force']):.6e}, threshold {float(r['threshold']):.6e})")
+
+    def key(r):
+        return int(r["step"]), int(r["cycle"]), int(r["bond_id"])
+    first, second = read_broken(a.a), read_broken(a.b)
+    for i in range(max(len(first), len(second))):
+        x = first[i] if i < len(first) else None
+        y = second[i] if i < len(second) else None
+        if x and y and key(x) == key(y):
+            continue
+        sys.exit(f"FAIL: rupture {i + 1} of {len(first)} / {len(second)} differs\n"
+                 f"  {a.a}: {text(x) if x else 'none (the run ends)'}\n"
+                 f"  {a.b}: {text(y) if y else 'none (the run ends)'}")
+    ca, cb = read_curve(a.a), read_curve(a.b)
+    peak = cb["stress_norm"].max()
+    strain_at_peak = cb["strain"][np.argmax(cb["stress_norm"])]
+
+    def off(x, y):  # |x - y| at y's rows, split at the peak strain
+        d = np.abs(stress_at(x, y["strain"]) - y["stress_norm"]) / peak
+        return np.nanmax(d), np.nanmax(d[y["strain"] <= strain_at_peak])
+    (whole, rise), (whole2, rise2) = off(ca, cb), off(cb, ca)
+    whole, rise = max(whole, whole2), max(rise, rise2)
+    print(f"ruptures: the same {len(first)} in the same order; curves ({len(ca['step'])} and "
+          f"{len(cb['step'])} rows) within {rise:.2e} of the peak up to it, {whole:.2e} in all")
+    if rise > a.pre_peak or whole > a.tol:
+        sys.exit(f"FAIL: stresses differ by more than {a.pre_peak:g} of the peak up to it "
+                 f"or {a.tol:g} in all")
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     sub = p.add_subparsers(dest="what", required=True)
@@ -304,6 +343,12 @@ def main():
     q.add_argument("b")
     q.add_argument("tol", type=float)
     q.set_defaults(func=curves)
+    q = sub.add_parser("ruptures")
+    q.add_argument("a")
+    q.add_argument("b")
+    q.add_argument("tol", type=float)
+    q.add_argument("--pre-peak", type=float, default=math.inf)
+    q.set_defaults(func=ruptures)
     a = p.parse_args()
     a.func(a)
 

@@ -131,6 +131,38 @@ TEST_F(FractureParts, DecidedBatchNeedsEveryBondOutsideItsError) {
 
 }
 
+// Near-ties: the inclined FCC bonds at 1.03 times their threshold are in
+// doubt with a band of 5 % of the mean threshold, not with 0.1 % (edge
+// bonds have a quarter of the bulk threshold, so 3 % of theirs is still
+// ~0.8 % of the mean); a batch in doubt is never decided early; the next
+// step is predicted from the edge of the band, earlier but at most at half
+// the threshold.  A solve to a tighter tolerance leaves -ksp_rtol as it was.
+TEST_F(FractureParts, NearTiesAreInDoubt) {
+  const double a = 1.0, eps_b = 1.05e-3;
+  DistributedLattice l = fcc_with_break_strain(a, eps_b);
+  ElasticSystem system(l, exact);
+  system.assemble();
+  CriticalBonds wide(l, BreakRule::all, 0.05), narrow(l, BreakRule::all, 0.001);
+  const double height = l.box.length(2);
+  system.solve(1.03 * 3 * eps_b * height);
+  const std::vector<double> t = system.bond_tensions();
+  EXPECT_TRUE(wide.in_doubt(t));
+  EXPECT_FALSE(narrow.in_doubt(t));
+  EXPECT_FALSE(wide.decided(t, t, 1.0));  // no error, but in doubt
+  EXPECT_TRUE(narrow.decided(t, t, 1.0));
+  // k a 1e-4 / 3 per step: every inclined bond at its threshold at step 31.5.
+  system.solve(1e-4 * height);
+  const std::int64_t early = wide.next_step(system.bond_tensions(), 1, 1000);
+  EXPECT_LT(early, 32);
+  EXPECT_GE(early, 16);
+  EXPECT_EQ(narrow.next_step(system.bond_tensions(), 1, 1000), 32);
+
+  const double rtol = system.rtol();
+  const SolveReport tight = system.solve_to(1e-3 * rtol, 1e-4 * height);
+  EXPECT_GE(tight.iterations, 0);
+  EXPECT_EQ(system.rtol(), rtol);
+}
+
 // A solve that stops once the batch is decided (from the affine initial
 // guess, so CG has work to do) breaks the bonds the converged field breaks,
 // in fewer iterations; its state is no equilibrium until a full solve.

@@ -55,6 +55,28 @@ TEST(BreakRule, FirstBreakingStepIsTheFirstStepAboveTheThreshold) {
   EXPECT_EQ(first_breaking_step(10, 1.0, 0.0, 0.25), 3.0);
 }
 
+TEST(BreakRule, DoubtBandAroundTheLevel) {
+  // Within the band of a threshold, on either side.
+  EXPECT_TRUE(in_doubt(1.0 + 5e-4, 1.0, 1e-3));
+  EXPECT_TRUE(in_doubt(1.0 - 5e-4, 1.0, 1e-3));
+  EXPECT_FALSE(in_doubt(1.0 + 2e-3, 1.0, 1e-3));  // certainly critical
+  EXPECT_FALSE(in_doubt(1.0 - 2e-3, 1.0, 1e-3));  // certainly not
+  EXPECT_FALSE(in_doubt(1.0, 1.0, 0.0));          // no band, no doubt
+  // At a floor narrower than the band, the band stops at half the floor:
+  // a force that is noise around zero is never in doubt.
+  EXPECT_DOUBLE_EQ(doubt_edge(1e-6, 1e-5), 0.5e-6);
+  EXPECT_FALSE(in_doubt(0.4e-6, 1e-6, 1e-5));
+  EXPECT_FALSE(in_doubt(-0.4e-6, 1e-6, 1e-5));
+  EXPECT_TRUE(in_doubt(0.6e-6, 1e-6, 1e-5));
+  EXPECT_TRUE(in_doubt(1.05e-5, 1e-6, 1e-5));
+  EXPECT_FALSE(in_doubt(1.2e-5, 1e-6, 1e-5));
+  // Without a band the edge is the level, so the predicted step is the
+  // first breaking step; with one, the step at which the band is entered.
+  EXPECT_EQ(doubt_edge(0.3, 0.0), 0.3);
+  EXPECT_EQ(first_breaking_step(10, 1.0, doubt_edge(0.25, 0.0), 0.0), 3.0);
+  EXPECT_EQ(first_breaking_step(100, 1.0, doubt_edge(0.25, 0.01), 0.0), 25.0);
+}
+
 TEST(PreconditionerRule, RebuildsAfterEnoughRuptures) {
   RebuildRule rule{100, 0.0};
   PreconditionerState s;

@@ -5,6 +5,11 @@
 // exceeds the force floor (1e-6 of the mean positive threshold): below the
 // floor a force is solver noise, so bonds of zero threshold (bare contacts)
 // break only on a real tension.  Bonds never break in compression.
+//
+// A force carries the solver's error, which differs with the rank count.  A
+// bond whose force is within a band of that error around its level
+// (threshold or floor) is "in doubt": the protocol decides it on a tighter
+// re-solve instead (docs/fracture.md, "Rank count").
 #pragma once
 
 #include "lem/distributed_lattice.hpp"
@@ -31,27 +36,40 @@ bool more_critical(const Rupture& a, const Rupture& b);
 /// (t > 0) first exceeds max(f, floor) at step floor(n f / t) + 1.
 double first_breaking_step(std::int64_t step, double tension, double threshold,
                            double force_floor);
+/// Lower edge of the doubt band around `level`: max(level - band, level / 2).
+/// Half the level bounds it so that a bare contact whose force is noise
+/// around zero is never in doubt.
+double doubt_edge(double level, double band);
+/// doubt_edge(level, band) < t <= level + band (never with band 0).
+bool in_doubt(double tension, double level, double band);
 
 class CriticalBonds {
  public:
   /// Collective (the force floor is a global mean of the thresholds).
-  CriticalBonds(const DistributedLattice& lattice, BreakRule rule);
+  /// `tie_band`: width of the doubt band in units of the mean positive
+  /// threshold (0: no bond is ever in doubt).
+  CriticalBonds(const DistributedLattice& lattice, BreakRule rule, double tie_band = 0);
 
   /// The bonds that break now under the rule, the same list on every rank
   /// (all critical ones ordered by id, or the most critical one).  Collective;
   /// throws NumericalError naming a bond with a non-finite force.
   std::vector<Rupture> find(const std::vector<double>& tensions) const;
 
+  /// Whether some bond is in doubt (in_doubt).  Collective.
+  bool in_doubt(const std::vector<double>& tensions) const;
+
   /// Whether an unfinished solve already decides the next batch: with the
   /// error of each force estimated as `safety` times its change since the
   /// `earlier` iterate, at least one bond is critical beyond its error and
-  /// no bond is within its error of its threshold (so the critical set of
-  /// the current field is the one of the converged field).  Collective.
+  /// no bond is within its error of its threshold or in doubt (so the
+  /// critical set of the current field is the one of the converged field).
+  /// Collective.
   bool decided(const std::vector<double>& tensions, const std::vector<double>& earlier,
                double safety) const;
 
-  /// First load step after `step` at which a bond becomes critical if the
-  /// field is scaled from `step` (at most max_steps + 1).  Collective.
+  /// First load step after `step` at which a bond becomes critical, or
+  /// enters its doubt band, if the field is scaled from `step` (at most
+  /// max_steps + 1).  Collective.
   std::int64_t next_step(const std::vector<double>& tensions, std::int64_t step,
                          std::int64_t max_steps) const;
 
@@ -61,13 +79,17 @@ class CriticalBonds {
   void check_first_increment(const std::vector<double>& tensions, double increment) const;
 
   double force_floor() const { return force_floor_; }
+  /// Width of the doubt band (a force; 0: off).
+  double tie_band() const { return band_; }
   /// Mean of the positive thresholds (1 when there is none).
   double mean_threshold() const { return mean_threshold_; }
 
  private:
+  double level(int bond) const;  // the force above which the bond is critical
+
   const DistributedLattice& lattice_;
   BreakRule rule_;
-  double mean_threshold_ = 1, force_floor_ = 0;
+  double mean_threshold_ = 1, force_floor_ = 0, band_ = 0;
 };
 
 }  // namespace lem

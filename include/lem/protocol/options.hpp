@@ -42,6 +42,11 @@ struct FractureOptions {
   // decision_interval CG iterations); 0: every solve to -ksp_rtol.
   double decision_safety = 0;
   int decision_interval = 4;
+  // A bond whose force is within tie_band * -ksp_rtol * (mean positive
+  // threshold) of its level is decided on a re-solve to tie_rtol: solver
+  // noise, which differs with the rank count, must not decide it.  0: off.
+  double tie_band = 1000;
+  double tie_rtol = 1e-10;
   std::int64_t rebuild_after_ruptures = 2000;  // 0: never by count
   double rebuild_iteration_growth = 1.5;       // 0: never by iterations
   // Threshold disorder: f *= factor(seed, bond id) for the phases listed.

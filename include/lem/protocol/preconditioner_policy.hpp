@@ -28,9 +28,13 @@ class PreconditionerPolicy {
   /// Solve for the top displacement, count it, apply the rule.  A solve
   /// that `early` ends before -ksp_rtol does not enter the iteration rule.
   SolveReport solve(double top_displacement, bool relaxation, const EarlyStop* early = nullptr);
+  /// A solve to `rtol` instead of -ksp_rtol, counted; outside the iteration rule.
+  SolveReport solve_to(double rtol, double top_displacement);
   void note_ruptures(std::int64_t ruptures);
 
  private:
+  SolveReport count(const SolveReport& report, bool relaxation);
+
   ElasticSystem& system_;
   DamageLedger& ledger_;
   RebuildRule rule_;

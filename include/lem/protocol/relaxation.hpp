@@ -69,6 +69,10 @@ class Relaxation {
   /// may end as soon as the next batch is decided (CriticalBonds::decided).
   /// A solve that leaves no bond critical has gone to -ksp_rtol.  Collective.
   SolveReport solve_for_decision(double top_displacement);
+  /// The batch that breaks now in the current equilibrium: when some bond is
+  /// in doubt (CriticalBonds::in_doubt), decided on a re-solve to
+  /// options.tie_rtol first.  Collective.
+  std::vector<Rupture> next_batch(double top_displacement);
   /// options.stop_within_step and the stress has fallen below the stop level.
   bool stress_fell(double stress_before) const;
   /// Before every cycle but the first: RelaxationParts::between_cycles.
