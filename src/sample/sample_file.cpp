@@ -7,13 +7,14 @@
 #include "lem/files.hpp"
 #include "lem/hdf5_util.hpp"
 
+#include "sample_checks.hpp"
+
 #include <hdf5.h>
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <limits>
-#include <sstream>
 #include <stdexcept>
 #include <system_error>
 #include <type_traits>
@@ -416,102 +417,6 @@ void check_range(const SampleReader& r, const std::vector<T>& values, std::int64
   }
 }
 
-std::string text_of(double v) {
-  std::ostringstream s;
-  s.precision(10);
-  s << v;
-  return s.str();
-}
-
-std::string text_of(const Point& p) {
-  return "(" + text_of(p[0]) + ", " + text_of(p[1]) + ", " + text_of(p[2]) + ")";
-}
-
-// The values a mechanical run relies on: a NaN or a node far outside the box
-// would otherwise surface far from its cause (a "disconnected" sample, a
-// diverged solve) or not at all (a wrong stress).
-void check_geometry(const SampleReader& r, const CementedSample& s) {
-  const Box& box = s.lattice.box;
-  double side = 0;
-  for (int a = 0; a < 3; ++a) {
-    if (!std::isfinite(box.lo[a]) || !std::isfinite(box.hi[a]) || !(box.lo[a] < box.hi[a]))
-      r.corrupt("attributes box_lo " + text_of(box.lo) + " and box_hi " + text_of(box.hi) +
-                " do not describe a box");
-    side = std::max(side, box.length(a));
-  }
-  // Nodes lie on the faces up to the rounding of whoever wrote them.
-  const double slack = 1e-9 * side;
-  const auto& nodes = s.lattice.nodes;
-  for (std::size_t i = 0; i < nodes.size(); ++i)
-    for (int a = 0; a < 3; ++a) {
-      if (!std::isfinite(nodes[i][a]))
-        r.corrupt("/nodes/coordinates row " + std::to_string(i) + " = " + text_of(nodes[i]) +
-                  " is not finite");
-      if (nodes[i][a] < box.lo[a] - slack || nodes[i][a] > box.hi[a] + slack)
-        r.corrupt("/nodes/coordinates row " + std::to_string(i) + " = " + text_of(nodes[i]) +
-                  " lies outside the box " + text_of(box.lo) + " - " + text_of(box.hi) +
-                  " (attributes box_lo, box_hi)");
-    }
-  double volume = 0;
-  for (std::size_t i = 0; i < s.node_volume.size(); ++i) {
-    const double v = s.node_volume[i];
-    if (!(std::isfinite(v) && v > 0))
-      r.corrupt("/nodes/volume row " + std::to_string(i) + " = " + text_of(v) +
-                " is not a finite positive volume");
-    volume += v;
-  }
-  // Clipped Voronoi cells tile the box.
-  const double box_volume = box.length(0) * box.length(1) * box.length(2);
-  if (!nodes.empty() && std::fabs(volume - box_volume) > 1e-6 * box_volume)
-    r.corrupt("/nodes/volume sums to " + text_of(volume) + ", not to the volume of the box, " +
-              text_of(box_volume));
-
-  // Bonds: ends already checked to be 0 <= i < j < N.
-  const auto& bonds = s.lattice.bonds;
-  for (std::size_t b = 0; b < bonds.size(); ++b) {
-    const Point& p = nodes[bonds[b].i];
-    const Point& q = nodes[bonds[b].j];
-    const double length =
-        std::sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
-                  (p[2] - q[2]) * (p[2] - q[2]));
-    if (!(length > 1e-12 * side))
-      r.corrupt("/bonds/connectivity row " + std::to_string(b) + " joins nodes " +
-                std::to_string(bonds[b].i) + " and " + std::to_string(bonds[b].j) +
-                ", which coincide at " + text_of(p) + " (a bond of zero length)");
-  }
-  // The first row that repeats an earlier one.
-  std::vector<std::pair<std::uint64_t, std::size_t>> keys(bonds.size());
-  for (std::size_t b = 0; b < bonds.size(); ++b)
-    keys[b] = {(static_cast<std::uint64_t>(bonds[b].i) << 32) |
-                   static_cast<std::uint32_t>(bonds[b].j),
-               b};
-  std::sort(keys.begin(), keys.end());
-  std::size_t repeat = bonds.size(), original = 0;
-  for (std::size_t k = 1, start = 0; k < keys.size(); ++k) {
-    if (keys[k].first != keys[k - 1].first) {
-      start = k;  // a new pair; keys[start] is its first row
-    } else if (keys[k].second < repeat) {
-      repeat = keys[k].second;
-      original = keys[start].second;
-    }
-  }
-  if (repeat < bonds.size())
-    r.corrupt("/bonds/connectivity row " + std::to_string(repeat) + " repeats row " +
-              std::to_string(original) + " (nodes " + std::to_string(bonds[repeat].i) +
-              " and " + std::to_string(bonds[repeat].j) + ")");
-
-  for (std::size_t k = 0; k < s.particles.size(); ++k) {
-    const Point& c = s.particles[k].centre;
-    if (!std::isfinite(c[0]) || !std::isfinite(c[1]) || !std::isfinite(c[2]))
-      r.corrupt("/particles/centres row " + std::to_string(k) + " = " + text_of(c) +
-                " is not finite");
-  }
-  for (std::size_t k = 0; k < s.bridges.size(); ++k)
-    if (!(std::isfinite(s.bridges[k].lambda) && s.bridges[k].lambda > 0))
-      r.corrupt("/bridges/lambda row " + std::to_string(k) + " = " +
-                text_of(s.bridges[k].lambda) + " is not a finite positive ratio");
-}
-
 SampleFile read_everything(const std::string& path) {
   const SampleReader r(path);
   if (!r.has_attribute("format") || r.text("format") != kSampleFormat)
@@ -579,7 +484,7 @@ SampleFile read_everything(const std::string& path) {
     std::copy(&centres[3 * i], &centres[3 * i] + 3, s.particles[i].centre.begin());
     s.particles[i].radius = radii[i];
     if (!(std::isfinite(radii[i]) && radii[i] > 0))
-      r.corrupt("/particles/radii row " + std::to_string(i) + " = " + text_of(radii[i]) +
+      r.corrupt("/particles/radii row " + std::to_string(i) + " = " + value_text(radii[i]) +
                 " is not a finite positive radius");
   }
 
@@ -623,7 +528,8 @@ SampleFile read_everything(const std::string& path) {
   s.bridges.resize(static_cast<std::size_t>(nb));
   for (std::size_t k = 0; k < s.bridges.size(); ++k)
     s.bridges[k] = {pairs[2 * k], pairs[2 * k + 1], lambda[k]};
-  check_geometry(r, s);
+  const std::string problem = first_geometry_problem(s);
+  if (!problem.empty()) r.corrupt(problem);
   return f;
 }
 

@@ -1,0 +1,113 @@
+#include "sample_checks.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <sstream>
+#include <utility>
+#include <vector>
+
+namespace lem {
+
+std::string value_text(double v) {
+  std::ostringstream s;
+  s.precision(10);
+  s << v;
+  return s.str();
+}
+
+namespace {
+
+std::string point_text(const Point& p) {
+  return "(" + value_text(p[0]) + ", " + value_text(p[1]) + ", " + value_text(p[2]) + ")";
+}
+
+}  // namespace
+
+// The values a mechanical run relies on: a NaN or a node far outside the box
+// would otherwise surface far from its cause (a "disconnected" sample, a
+// diverged solve) or not at all (a wrong stress).
+std::string first_geometry_problem(const CementedSample& s) {
+  const Box& box = s.lattice.box;
+  double side = 0;
+  for (int a = 0; a < 3; ++a) {
+    if (!std::isfinite(box.lo[a]) || !std::isfinite(box.hi[a]) || !(box.lo[a] < box.hi[a]))
+      return ("attributes box_lo " + point_text(box.lo) + " and box_hi " + point_text(box.hi) +
+                " do not describe a box");
+    side = std::max(side, box.length(a));
+  }
+  // Nodes lie on the faces up to the rounding of whoever wrote them.
+  const double slack = 1e-9 * side;
+  const auto& nodes = s.lattice.nodes;
+  for (std::size_t i = 0; i < nodes.size(); ++i)
+    for (int a = 0; a < 3; ++a) {
+      if (!std::isfinite(nodes[i][a]))
+        return ("/nodes/coordinates row " + std::to_string(i) + " = " + point_text(nodes[i]) +
+                  " is not finite");
+      if (nodes[i][a] < box.lo[a] - slack || nodes[i][a] > box.hi[a] + slack)
+        return ("/nodes/coordinates row " + std::to_string(i) + " = " + point_text(nodes[i]) +
+                  " lies outside the box " + point_text(box.lo) + " - " + point_text(box.hi) +
+                  " (attributes box_lo, box_hi)");
+    }
+  double volume = 0;
+  for (std::size_t i = 0; i < s.node_volume.size(); ++i) {
+    const double v = s.node_volume[i];
+    if (!(std::isfinite(v) && v > 0))
+      return ("/nodes/volume row " + std::to_string(i) + " = " + value_text(v) +
+                " is not a finite positive volume");
+    volume += v;
+  }
+  // Clipped Voronoi cells tile the box.
+  const double box_volume = box.volume();
+  if (!nodes.empty() && std::fabs(volume - box_volume) > 1e-6 * box_volume)
+    return ("/nodes/volume sums to " + value_text(volume) + ", not to the volume of the box, " +
+              value_text(box_volume));
+
+  // Bonds: ends already checked to be 0 <= i < j < N.
+  const auto& bonds = s.lattice.bonds;
+  for (std::size_t b = 0; b < bonds.size(); ++b) {
+    const Point& p = nodes[bonds[b].i];
+    const Point& q = nodes[bonds[b].j];
+    const double length =
+        std::sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
+                  (p[2] - q[2]) * (p[2] - q[2]));
+    if (!(length > 1e-12 * side))
+      return ("/bonds/connectivity row " + std::to_string(b) + " joins nodes " +
+                std::to_string(bonds[b].i) + " and " + std::to_string(bonds[b].j) +
+                ", which coincide at " + point_text(p) + " (a bond of zero length)");
+  }
+  // The first row that repeats an earlier one.
+  std::vector<std::pair<std::uint64_t, std::size_t>> keys(bonds.size());
+  for (std::size_t b = 0; b < bonds.size(); ++b)
+    keys[b] = {(static_cast<std::uint64_t>(bonds[b].i) << 32) |
+                   static_cast<std::uint32_t>(bonds[b].j),
+               b};
+  std::sort(keys.begin(), keys.end());
+  std::size_t repeat = bonds.size(), original = 0;
+  for (std::size_t k = 1, start = 0; k < keys.size(); ++k) {
+    if (keys[k].first != keys[k - 1].first) {
+      start = k;  // a new pair; keys[start] is its first row
+    } else if (keys[k].second < repeat) {
+      repeat = keys[k].second;
+      original = keys[start].second;
+    }
+  }
+  if (repeat < bonds.size())
+    return ("/bonds/connectivity row " + std::to_string(repeat) + " repeats row " +
+              std::to_string(original) + " (nodes " + std::to_string(bonds[repeat].i) +
+              " and " + std::to_string(bonds[repeat].j) + ")");
+
+  for (std::size_t k = 0; k < s.particles.size(); ++k) {
+    const Point& c = s.particles[k].centre;
+    if (!std::isfinite(c[0]) || !std::isfinite(c[1]) || !std::isfinite(c[2]))
+      return ("/particles/centres row " + std::to_string(k) + " = " + point_text(c) +
+                " is not finite");
+  }
+  for (std::size_t k = 0; k < s.bridges.size(); ++k)
+    if (!(std::isfinite(s.bridges[k].lambda) && s.bridges[k].lambda > 0))
+      return ("/bridges/lambda row " + std::to_string(k) + " = " +
+                value_text(s.bridges[k].lambda) + " is not a finite positive ratio");
+  return {};
+}
+
+}  // namespace lem
