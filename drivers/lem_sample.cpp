@@ -58,6 +58,7 @@ lem::Summary sample_summary(const lem::CementedSampleStats& st, const lem::Cemen
   sum.add("packing_particles", static_cast<long long>(spec.packing.count));
   sum.add("lattice_seed", static_cast<long long>(spec.lattice.seed));
   sum.add("matrix_max_gap", spec.bridges.max_gap / spec.packing.d_min, "d_min");
+  sum.add("void_bonds", std::string(lem::void_rule_name(spec.bridges.void_bonds)));
   sum.add("seconds_packing", st.packing_seconds, "s");
   sum.add("seconds_lattice", st.lattice_seconds, "s");
   sum.add("seconds_voronoi", st.voronoi_seconds, "s");
@@ -73,7 +74,7 @@ void report(const lem::CementedSampleStats& st, const lem::CementedSampleSpec& s
   lem::say("rho_p %.4f geometric, %.4f on the lattice; rho_m %.4f requested, %.4f on the "
            "lattice; rho_v %.4f\n",
            st.rho_p_geometric, st.rho_p, spec.bridges.matrix_fraction, st.rho_m, st.rho_v);
-  lem::say("bonds per phase:");
+  lem::say("bonds per phase (void rule %s):", lem::void_rule_name(spec.bridges.void_bonds));
   for (int k = 0; k < lem::kPhaseCount; ++k)
     lem::say("  %s %lld", lem::phase_name(static_cast<lem::Phase>(k)),
              (long long)st.bonds_per_phase[k]);

@@ -30,6 +30,19 @@ struct Bridge {
   double lambda = 0;          // frustum radius / particle radius at each centre
 };
 
+/// Which bonds the pores make void.  The paper states only that void bonds
+/// carry nothing (f^v = 0), not how a bond with one end in a pore is
+/// classified.
+///   any_end    a bond with at least one end in a pore is void (the default;
+///              the pores grow by half a bond, the solid shrinks);
+///   both_ends  only a bond with both ends in pores is void; a bond from a
+///              particle or matrix node into a pore takes that node's phase
+///              (p or m: the solid grows by half a bond).
+enum class VoidRule { any_end, both_ends };
+
+/// The option words of a VoidRule ("any_end", "both_ends").
+const char* void_rule_name(VoidRule rule);
+
 struct BridgeSpec {
   double matrix_fraction = 0.13;  // requested rho^m
   /// Eligible pairs: surface gap <= max_gap (a length, like the radii).  The
@@ -38,6 +51,9 @@ struct BridgeSpec {
   /// (docs/cemented-samples.md), the default.
   double max_gap = 0.15;
   double max_lambda = 3.0;        // widest bridge allowed (pore-space limit)
+  /// Not a property of the bridges but of the phases the matrix stage
+  /// assigns: the bonds made void by the pores.
+  VoidRule void_bonds = VoidRule::any_end;
 };
 
 /// Pairs of particles whose surfaces are at most `max_gap` apart (cell list).
@@ -73,8 +89,10 @@ class AggregateGeometry {
   std::vector<std::vector<std::int32_t>> particle_cells_, bridge_cells_;
 };
 
-/// Phase of a bond from the phases of its end nodes (paper sect. 2.2).
-Phase bond_phase(const NodePhases& nodes, std::int32_t a, std::int32_t b);
+/// Phase of a bond from the phases of its end nodes (paper sect. 2.2), the
+/// pores making bonds void by `rule`.
+Phase bond_phase(const NodePhases& nodes, std::int32_t a, std::int32_t b,
+                 VoidRule rule = VoidRule::any_end);
 
 /// Result of sizing the bridges for a requested matrix fraction.
 struct MatrixCalibration {

@@ -46,7 +46,7 @@ struct TensionResponse {
   double reaction = 0;          // total z force applied on the top nodes
   double stress_zz = 0;         // reaction / cross-section
   double strain_zz = 0;         // Delta / height
-  double strain_xx = 0, strain_yy = 0;  // mean lateral face displacements / width
+  double strain_xx = 0, strain_yy = 0;  // lateral_strains(): face displacements, rotation about z removed
   double young_modulus = 0;     // stress_zz / strain_zz
   double poisson_ratio = 0;     // -(strain_xx + strain_yy) / (2 strain_zz)
   double stored_energy = 0;     // 1/2 sum_bonds k (stretch)^2

@@ -38,8 +38,9 @@ void stiffen_inclusions(Lattice& lattice, const Inclusions& inclusions, double r
 
 /// Pores: void bonds are removed from the lattice (they carry nothing); bond
 /// ids are renumbered.  A bond is void if any end is inside a pore (the
-/// paper's phase rule, default) or, with `both_ends`, only if both are: the
-/// two rules bracket the true pore volume at a finite resolution.
+/// "any_end" rule, default) or, with `both_ends`, only if both are: the two
+/// rules bracket the true pore volume at a finite resolution.  The paper
+/// states only that void bonds carry nothing (f^v = 0), not which rule.
 void carve_pores(Lattice& lattice, const Inclusions& pores, bool both_ends = false);
 
 /// Fraction of nodes inside the inclusions (a lattice estimate of the volume

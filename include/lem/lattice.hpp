@@ -80,6 +80,13 @@ Lattice make_random_lattice(const RandomLatticeSpec& spec);
 /// a share of the infinite lattice, and a homogeneous strain is an exact
 /// equilibrium even with free faces (see docs/theory.md).
 Lattice make_fcc_lattice(std::array<int, 3> cells, double a, double k);
+/// The same block measured in half cells (spacings of c/2 = a/sqrt 2) per
+/// axis: make_fcc_lattice(cells) is make_fcc_block(2 cells).  With an odd
+/// count the two faces normal to that axis carry the two different site
+/// patterns of an FCC plane, so their node centroids differ (a test of
+/// measures that average over faces); the block is still an exact share of
+/// the infinite lattice.
+Lattice make_fcc_block(std::array<int, 3> half_cells, double a, double k);
 
 /// Bit flags of the box faces a node lies on (within tol * shortest side).
 enum Face : std::uint8_t {

@@ -12,7 +12,9 @@
 //   root attributes: format = "lem-cemented-sample", format_version = 1,
 //   box_lo / box_hi, every CementedSampleStats field (bonds_per_phase as
 //   bonds_p, bonds_m, ...; a statistic newer than the file reads as 0), the spec (packing_*, sample_particles,
-//   lattice_*, matrix_*) and the provenance.
+//   lattice_*, matrix_*), void_bonds ("any_end" or "both_ends": the rule
+//   that made /bonds/phase; absent in older files, which used any_end) and
+//   the provenance.
 // <stem>.xmf: grid "nodes" (phase, particle, volume), grid "bonds" (phase),
 //   grid "particles" (radius), for ParaView.
 #pragma once

@@ -30,8 +30,9 @@ std::int64_t auto_packing_count(std::int64_t sample_particles);
 /// resolved), -sample_particles, the random lattice (-lattice_nodes /
 /// -lattice_bonds / -lattice_Ln, default 2520 bonds per sample particle,
 /// i.e. the paper's 1.3e6 bonds for 516; -lattice_seed,
-/// -lattice_min_separation) and the matrix (-matrix_fraction,
-/// -matrix_max_gap, -matrix_max_lambda).
+/// -lattice_min_separation), the matrix (-matrix_fraction,
+/// -matrix_max_gap, -matrix_max_lambda) and the void rule of the bond phases
+/// (-sample_void_bonds).
 CementedSampleSpec read_cemented_sample_spec(MPI_Comm comm);
 
 /// -phase_E_* and -phase_sigma_*: bond moduli and breaking stresses per

@@ -49,17 +49,21 @@ std::vector<std::uint8_t> face_flags(const Lattice& lattice, double tol) {
 }
 
 Lattice make_fcc_lattice(std::array<int, 3> cells, double a, double k) {
+  return make_fcc_block({2 * cells[0], 2 * cells[1], 2 * cells[2]}, a, k);
+}
+
+Lattice make_fcc_block(std::array<int, 3> half_cells, double a, double k) {
   // Sites are the points of a grid of spacing h = c/2 (c = a*sqrt(2), the cube
   // side) whose integer coordinates have an even sum.
   const double h = a / std::sqrt(2.0);
-  const int n[3] = {2 * cells[0] + 1, 2 * cells[1] + 1, 2 * cells[2] + 1};
+  const int n[3] = {half_cells[0] + 1, half_cells[1] + 1, half_cells[2] + 1};
   std::vector<std::int32_t> site(static_cast<std::size_t>(n[0]) * n[1] * n[2], -1);
   auto at = [&](int i, int j, int l) -> std::int32_t& {
     return site[(static_cast<std::size_t>(i) * n[1] + j) * n[2] + l];
   };
   Lattice lattice;
   lattice.box.lo = {0, 0, 0};
-  lattice.box.hi = {2 * cells[0] * h, 2 * cells[1] * h, 2 * cells[2] * h};
+  lattice.box.hi = {half_cells[0] * h, half_cells[1] * h, half_cells[2] * h};
   for (int i = 0; i < n[0]; ++i)
     for (int j = 0; j < n[1]; ++j)
       for (int l = 0; l < n[2]; ++l)

@@ -204,9 +204,16 @@ NodePhases AggregateGeometry::classify(const std::vector<Point>& nodes) const {
   return np;
 }
 
-Phase bond_phase(const NodePhases& nodes, std::int32_t a, std::int32_t b) {
+const char* void_rule_name(VoidRule rule) {
+  return rule == VoidRule::both_ends ? "both_ends" : "any_end";
+}
+
+Phase bond_phase(const NodePhases& nodes, std::int32_t a, std::int32_t b, VoidRule rule) {
   const std::int32_t pa = nodes.particle[a], pb = nodes.particle[b];
   const bool ma = nodes.matrix[a], mb = nodes.matrix[b];
+  const bool va = pa < 0 && !ma, vb = pb < 0 && !mb;
+  // both_ends: a bond with one end in a pore belongs to its other end.
+  if (rule == VoidRule::both_ends && va != vb) return (va ? pb : pa) >= 0 ? Phase::p : Phase::m;
   if (pa >= 0 && pb >= 0) return pa == pb ? Phase::p : Phase::pp;
   if ((pa >= 0 && mb) || (pb >= 0 && ma)) return Phase::pm;
   if (ma && mb) return Phase::m;

@@ -128,7 +128,7 @@ void add_matrix(CementedSample& s, const BridgeSpec& spec) {
   std::int64_t leaving = 0;  // bond ends leaving a particle surface
   for (std::size_t b = 0; b < bonds; ++b) {
     const auto& bond = s.lattice.bonds[b];
-    const Phase phase = bond_phase(s.node_phases, bond.i, bond.j);
+    const Phase phase = bond_phase(s.node_phases, bond.i, bond.j, spec.void_bonds);
     const int k = static_cast<int>(phase);
     s.bond_phase[b] = phase;
     ++st.bonds_per_phase[k];

@@ -286,6 +286,7 @@ void write_hdf5(const std::string& path, const std::string& label, const Cemente
   visit_statistics(stats, write);
   w.text("packing_distribution", distribution_name(spec.packing.distribution));
   w.text("packing_law", law_name(spec.packing.law));
+  w.text("void_bonds", void_rule_name(spec.bridges.void_bonds));
   if (!h5::write_provenance_attributes(w.file(), provenance))
     throw InputError("cannot write sample file " + label + ": HDF5 could not write the "
                      "provenance attributes");
@@ -447,6 +448,14 @@ SampleFile read_everything(const std::string& path) {
   if (law != law_name(ContactLaw::linear) && law != law_name(ContactLaw::hertz))
     r.corrupt("unknown packing_law '" + law + "'");
   f.spec.packing.law = law == law_name(ContactLaw::hertz) ? ContactLaw::hertz : ContactLaw::linear;
+  // Files written before the rule was a choice used any_end.
+  if (r.has_attribute("void_bonds")) {
+    const std::string rule = r.text("void_bonds");
+    if (rule != void_rule_name(VoidRule::any_end) && rule != void_rule_name(VoidRule::both_ends))
+      r.corrupt("unknown void_bonds '" + rule + "'");
+    f.spec.bridges.void_bonds =
+        rule == void_rule_name(VoidRule::both_ends) ? VoidRule::both_ends : VoidRule::any_end;
+  }
   r.numbers("box_lo", s.lattice.box.lo.data(), 3);
   r.numbers("box_hi", s.lattice.box.hi.data(), 3);
   f.spec.lattice.box = s.lattice.box;

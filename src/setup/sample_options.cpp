@@ -111,6 +111,11 @@ CementedSampleSpec read_cemented_sample_spec(MPI_Comm comm) {
   spec.bridges.max_lambda = g.real(
       "-matrix_max_lambda", "Widest bridge: frustum radius / particle radius at the centres",
       spec.bridges.max_lambda, 0.0, 10.0, true);
+  spec.bridges.void_bonds = g.choice<VoidRule>(
+      "-sample_void_bonds", "Bonds the pores make void (the paper states only f^v = 0): "
+      "any_end = every bond with an end in a pore; both_ends = only bonds with both ends in "
+      "pores, a bond from a particle or matrix node into a pore taking that node's phase",
+      {{"any_end", VoidRule::any_end}, {"both_ends", VoidRule::both_ends}}, VoidRule::any_end);
   return spec;
 }
 

@@ -71,10 +71,11 @@ SampleOptions read_sample_options(MPI_Comm comm) {
         g.integer("-inclusion_seed", "Random seed of the inclusion centres", 7, 0, PETSC_MAX_INT));
     o.inclusion_stiffness_ratio = g.real("-inclusion_stiffness_ratio", "k inside stiff inclusions "
                                          "/ k of the matrix", 10.0, 0.0, 1e6, true);
-    o.pore_needs_both_ends = g.choice<bool>("-inclusion_void_bonds", "Which bonds a pore removes: "
-                                            "any = a bond with an end in a pore (paper), both = "
-                                            "only bonds with both ends in it",
-                                            {{"any", false}, {"both", true}}, false);
+    o.pore_needs_both_ends = g.choice<bool>(
+        "-inclusion_void_bonds", "Which bonds a pore removes (the paper states only f^v = 0): "
+        "any_end = every bond with an end in a pore, both_ends = only bonds with both ends in "
+        "it; any and both are older spellings",
+        {{"any_end", false}, {"both_ends", true}, {"any", false}, {"both", true}}, false);
   }
   return o;
 }

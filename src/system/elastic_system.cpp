@@ -3,6 +3,7 @@
 #include "solver_defaults.hpp"
 
 #include "lem/error.hpp"
+#include "lem/lateral_strain.hpp"
 #include "lem/log.hpp"
 #include "lem/options.hpp"
 
@@ -551,8 +552,8 @@ std::vector<Point> ElasticSystem::owned_displacements() const {
 
 TensionResponse ElasticSystem::response() const {
   const DistributedLattice& l = lattice_;
-  // sums: reaction, energy, then (sum u, count) for faces x-, x+, y-, y+.
-  double sums[10] = {};
+  // sums: reaction, energy.
+  double sums[2] = {};
   for_each_bond_stretch(l, u_, [&](int b, const double* n, double stretch) {
     const double k = l.bond_stiffness[b], tension = k * stretch;
     if (l.bond_reported[b]) sums[1] += 0.5 * k * stretch * stretch;
@@ -562,21 +563,12 @@ TensionResponse ElasticSystem::response() const {
     if (p < l.owned && (l.dof_flags[p] & kLoadedTop)) sums[0] -= tension * n[2];
     if (q < l.owned && (l.dof_flags[q] & kLoadedTop)) sums[0] += tension * n[2];
   });
+  double totals[2];
+  MPI_Allreduce(sums, totals, 2, MPI_DOUBLE, MPI_SUM, l.comm);
   const PetscScalar* u = nullptr;
   LEM_PETSC(VecGetArrayRead(u_, &u));
-  const std::uint8_t face_bits[4] = {kXmin, kXmax, kYmin, kYmax};
-  for (int n = 0; n < l.owned; ++n) {
-    if (l.dof_flags[n] & kPinned) continue;
-    for (int f = 0; f < 4; ++f)
-      if (l.faces[n] & face_bits[f]) {
-        sums[2 + 2 * f] += u[3 * n + f / 2];
-        sums[3 + 2 * f] += 1;
-      }
-  }
+  const LateralStrain lateral = lateral_strains(l, u);
   LEM_PETSC(VecRestoreArrayRead(u_, &u));
-  double totals[10];
-  MPI_Allreduce(sums, totals, 10, MPI_DOUBLE, MPI_SUM, l.comm);
-  auto mean = [&](int f) { return totals[3 + 2 * f] > 0 ? totals[2 + 2 * f] / totals[3 + 2 * f] : 0; };
 
   TensionResponse r;
   r.top_displacement = current_displacement_;
@@ -585,8 +577,8 @@ TensionResponse ElasticSystem::response() const {
   r.external_work = 0.5 * r.reaction * current_displacement_;
   r.stress_zz = r.reaction / (l.box.length(0) * l.box.length(1));
   r.strain_zz = current_displacement_ / l.box.length(2);
-  r.strain_xx = (mean(1) - mean(0)) / l.box.length(0);
-  r.strain_yy = (mean(3) - mean(2)) / l.box.length(1);
+  r.strain_xx = lateral.xx;
+  r.strain_yy = lateral.yy;
   if (r.strain_zz != 0) {
     r.young_modulus = r.stress_zz / r.strain_zz;
     r.poisson_ratio = -(r.strain_xx + r.strain_yy) / (2 * r.strain_zz);

@@ -1,11 +1,12 @@
 // Matrix bridges and phases: bridge volume against a closed form, pair
-// search against brute force, the phase table on a hand-made two-particle
-// sample, and the calibration of the matrix fraction.
+// search against brute force, the phase table and the two void rules on a
+// hand-made two-particle sample, and the calibration of the matrix fraction.
 #include "lem/aggregate.hpp"
 #include "lem/error.hpp"
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -79,6 +80,42 @@ TEST(Phases, HandMadeTwoParticleSample) {
   EXPECT_EQ(bond_phase(np, 4, 5), Phase::v);
   EXPECT_EQ(bond_phase(np, 0, 6), Phase::v);
   EXPECT_STREQ(phase_name(Phase::pm), "pm");
+}
+
+TEST(Phases, VoidRulesOnTheHandMadeSample) {
+  // The sample above with every pair of its seven nodes bonded (21 bonds):
+  // particle 0 {0, 1}, particle 1 {2}, matrix {3, 4}, void {5, 6}.
+  Box box;
+  box.hi = {3, 2, 2};
+  const std::vector<Sphere> particles{{{0.9, 1, 1}, 0.5}, {{2.1, 1, 1}, 0.5}};
+  const NodePhases np = AggregateGeometry(box, particles, {Bridge{0, 1, 0.6}})
+                            .classify({{0.9, 1, 1}, {0.7, 1, 1}, {2.1, 1, 1}, {1.5, 1, 1},
+                                       {1.5, 1.25, 1}, {1.5, 1.4, 1}, {0.2, 0.2, 0.2}});
+  auto counts = [&](VoidRule rule) {
+    std::array<int, kPhaseCount> n{};
+    for (std::int32_t a = 0; a < 7; ++a)
+      for (std::int32_t b = a + 1; b < 7; ++b) ++n[static_cast<int>(bond_phase(np, a, b, rule))];
+    return n;
+  };
+  // any_end: the 6 particle-void, 4 matrix-void and 1 void-void bonds are void.
+  const auto any = counts(VoidRule::any_end);
+  EXPECT_EQ(any[int(Phase::p)], 1);
+  EXPECT_EQ(any[int(Phase::pp)], 2);
+  EXPECT_EQ(any[int(Phase::pm)], 6);
+  EXPECT_EQ(any[int(Phase::m)], 1);
+  EXPECT_EQ(any[int(Phase::v)], 11);
+  // both_ends: only the void-void bond; particle-void bonds are p, matrix-void m.
+  const auto both = counts(VoidRule::both_ends);
+  EXPECT_EQ(both[int(Phase::p)], 1 + 6);
+  EXPECT_EQ(both[int(Phase::pp)], 2);
+  EXPECT_EQ(both[int(Phase::pm)], 6);
+  EXPECT_EQ(both[int(Phase::m)], 1 + 4);
+  EXPECT_EQ(both[int(Phase::v)], 1);
+  EXPECT_EQ(bond_phase(np, 6, 0, VoidRule::both_ends), Phase::p);  // either order
+  EXPECT_EQ(bond_phase(np, 5, 4, VoidRule::both_ends), Phase::m);
+  EXPECT_EQ(bond_phase(np, 0, 6), bond_phase(np, 0, 6, VoidRule::any_end));  // the default
+  EXPECT_STREQ(void_rule_name(VoidRule::any_end), "any_end");
+  EXPECT_STREQ(void_rule_name(VoidRule::both_ends), "both_ends");
 }
 
 namespace {

@@ -23,6 +23,16 @@ const CementedSample& small_sample() {
   }();
   return sample;
 }
+
+// 27 particles on a 2e4-bond lattice: built in a second or two.
+CementedSampleSpec little_spec() {
+  CementedSampleSpec spec;
+  spec.packing.count = 100;
+  spec.packing.seed = 5;
+  spec.sample_particles = 27;
+  spec.lattice.bonds = 20000;
+  return spec;
+}
 }  // namespace
 
 TEST(CementedSample, VolumesPartitionTheCube) {
@@ -93,12 +103,40 @@ TEST(CementedSample, MatrixStageCanBeRepeatedOnTheSameGeometry) {
   EXPECT_EQ(s.bond_phase, small_sample().bond_phase);  // nothing left over from 0.2
 }
 
+TEST(CementedSample, VoidRulesDifferOnlyInBondsWithOneEndInAPore) {
+  // The same sample made with both rules: the nodes, bridges and interface
+  // bonds agree; any_end voids every bond with an end in a pore, both_ends
+  // only those with both ends there and gives the others to p or m.
+  CementedSampleSpec spec = little_spec();
+  const CementedSample any = build_cemented_sample(spec);
+  spec.bridges.void_bonds = VoidRule::both_ends;
+  const CementedSample both = build_cemented_sample(spec);
+  ASSERT_EQ(any.node_phases.particle, both.node_phases.particle);
+  ASSERT_EQ(any.node_phases.matrix, both.node_phases.matrix);
+  const NodePhases& np = any.node_phases;
+  auto is_void = [&](std::int32_t n) { return np.particle[n] < 0 && !np.matrix[n]; };
+  // Bonds with two void ends, and with one whose other end is in a
+  // particle [0] or in the matrix [1].
+  std::int64_t two_void = 0, one_void[2] = {0, 0};
+  for (const auto& [i, j] : any.lattice.bonds) {
+    if (is_void(i) && is_void(j)) ++two_void;
+    else if (is_void(i) || is_void(j)) ++one_void[np.particle[is_void(i) ? j : i] >= 0 ? 0 : 1];
+  }
+  const auto& a = any.stats.bonds_per_phase;
+  const auto& c = both.stats.bonds_per_phase;
+  EXPECT_GT(one_void[0], 0);
+  EXPECT_GT(one_void[1], 0);
+  EXPECT_EQ(a[int(Phase::v)], two_void + one_void[0] + one_void[1]);
+  EXPECT_EQ(c[int(Phase::v)], two_void);
+  EXPECT_EQ(c[int(Phase::p)], a[int(Phase::p)] + one_void[0]);
+  EXPECT_EQ(c[int(Phase::m)], a[int(Phase::m)] + one_void[1]);
+  EXPECT_EQ(c[int(Phase::pp)], a[int(Phase::pp)]);
+  EXPECT_EQ(c[int(Phase::pm)], a[int(Phase::pm)]);
+  EXPECT_EQ(any.stats.rho_v, both.stats.rho_v);  // node volumes do not see the rule
+}
+
 TEST(CementedSample, ReproducibleWithSeeds) {
-  CementedSampleSpec spec;
-  spec.packing.count = 100;
-  spec.packing.seed = 5;
-  spec.sample_particles = 27;
-  spec.lattice.bonds = 20000;
+  CementedSampleSpec spec = little_spec();
   const CementedSample a = build_cemented_sample(spec), b = build_cemented_sample(spec);
   EXPECT_EQ(a.lattice.nodes, b.lattice.nodes);
   EXPECT_EQ(a.bond_phase, b.bond_phase);

@@ -2,6 +2,7 @@
 // for every kind of wrong file.
 #include "lem/cemented_sample.hpp"
 #include "lem/error.hpp"
+#include "lem/hdf5_util.hpp"
 #include "lem/hdf5_writer.hpp"
 #include "lem/sample_file.hpp"
 
@@ -264,6 +265,24 @@ TEST_F(SampleFileTest, StatisticMissingFromAnOlderFileReadsAsZero) {
   const CementedSample s = read_sample(path);
   EXPECT_EQ(s.stats.interface_ratio, 0.0);
   EXPECT_EQ(s.stats.rho_m, small().sample.stats.rho_m);
+}
+
+TEST_F(SampleFileTest, VoidRuleIsStoredAndOlderFilesReadAsAnyEnd) {
+  CementedSampleSpec spec = small().spec;
+  spec.bridges.void_bonds = VoidRule::both_ends;
+  const std::string stem = (dir_ / "both").string();
+  write_sample(stem, small().sample, spec, provenance_);
+  EXPECT_EQ(read_sample_file(stem + ".h5").spec.bridges.void_bonds, VoidRule::both_ends);
+  // A file from before the rule was a choice has no attribute: any_end.
+  edit(stem + ".h5", [](hid_t file) { EXPECT_GE(H5Adelete(file, "void_bonds"), 0); });
+  EXPECT_EQ(read_sample_file(stem + ".h5").spec.bridges.void_bonds, VoidRule::any_end);
+  const std::string path = written();
+  EXPECT_EQ(read_sample_file(path).spec.bridges.void_bonds, VoidRule::any_end);
+  edit(path, [](hid_t file) {
+    EXPECT_GE(H5Adelete(file, "void_bonds"), 0);
+    EXPECT_TRUE(h5::write_string_attribute(file, "void_bonds", "some_ends"));
+  });
+  expect_input_error(path, "is corrupt: unknown void_bonds 'some_ends'");
 }
 
 TEST_F(SampleFileTest, RepeatedBondNamesTheFirstRepeat) {

@@ -2,7 +2,7 @@
 
 Reads RESULTS_DIR/convergence.csv and fit.csv written by lem_convergence and
 writes RESULTS_DIR/convergence.png.  An optional second run (for example with
--inclusion_void_bonds both) is drawn with open symbols.
+-inclusion_void_bonds both_ends) is drawn with open symbols.
 """
 from . import cli
 from .analysis import hashin_shtrikman
