@@ -19,6 +19,8 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <optional>
+#include <set>
 #include <sstream>
 
 static const char help[] =
@@ -113,16 +115,22 @@ std::string result_fingerprint(const lem::DistributedLattice& lattice,
   return s.str();
 }
 
+// Rank 0: why the finished result `m` is not that of this run ("" if it is;
+// the rank count may differ).
+std::string other_run(const lem::Manifest& m, const std::string& fingerprint) {
+  if (m.program != "lem_fracture") return "\n  written by " + m.program;
+  int other_ranks = 0;
+  return lem::fingerprint_differences(m.fingerprint, fingerprint, other_ranks, "finished");
+}
+
 // Rank 0 of a locked output directory: true if it holds the finished result
 // of this very run (then there is nothing to do); InputError if it holds
 // another one and -output_overwrite was not given.
 bool already_finished(const std::string& dir, const std::string& fingerprint, bool overwrite) {
+  if (overwrite) return false;  // a damaged manifest too
   const auto manifest = lem::read_manifest(dir);
-  if (!manifest || overwrite) return false;
-  int other_ranks = 0;
-  std::string differs =
-      lem::fingerprint_differences(manifest->fingerprint, fingerprint, other_ranks, "finished");
-  if (manifest->program != "lem_fracture") differs = "\n  written by " + manifest->program;
+  if (!manifest) return false;
+  const std::string differs = other_run(*manifest, fingerprint);
   if (!differs.empty())
     throw lem::InputError("output directory '" + dir + "' holds the finished result of "
                           "another run:" + differs + "\npass -output_overwrite to replace it, "
@@ -149,6 +157,77 @@ std::string finished_warnings(const std::string& dir) {
     return list;
   }
   return {};
+}
+
+// Rank 0: the warning options are not part of the fingerprint, so a result
+// finished with warnings is refused here under -fracture_strict.
+void refuse_if_strict(const std::string& dir, const lem::FractureOptions& options) {
+  if (options.strict && !finished_warnings(dir).empty())
+    throw lem::NumericalError("output directory '" + dir + "' holds a finished result with "
+                              "warnings (" + finished_warnings(dir) + "), an error under "
+                              "-fracture_strict; pass -output_overwrite to compute it again");
+}
+
+// The entries lem_fracture writes in its output folder, or the tools draw
+// from its result (tools/plot_fracture.py, plot_stress.py).  The others
+// belong to whoever put them there (a study's run.json and log) and stay
+// when -output_overwrite replaces the result.
+bool part_of_result(const std::string& name) {
+  static const std::set<std::string> names = {"curve.csv",      "broken.csv",  "summary.csv",
+                                              "summary.json",   "calibration", "checkpoint.bin",
+                                              "fracture.png",   "stress.png",  "stress.json"};
+  const std::string ext = std::filesystem::path(name).extension().string();
+  return names.count(name) > 0 || ext == ".part" || ext == ".tmp" ||
+         name.rfind("fields.", 0) == 0 || name.rfind("elastic.", 0) == 0 ||
+         name.rfind("snapshot_", 0) == 0;
+}
+
+// Whether the staging folder of -output_overwrite (<dir>.overwrite) is one
+// of ours (rank 0 decides).
+bool staging_is_ours(MPI_Comm comm, const std::string& dir) {
+  int ours = 0;
+  lem::run_on_root(comm, [&] { ours = lem::staging_state(dir) == lem::StagingState::ours; });
+  MPI_Bcast(&ours, 1, MPI_INT, 0, comm);
+  return ours != 0;
+}
+
+// Rank 0, -output_overwrite: what the staging folder of `dir` holds for this
+// run.  True if it is this run's complete result, to be put in place (a run
+// stopped while doing so); false if the run is to be computed there: resumed
+// from its checkpoint, or started over once the folder is emptied.
+bool staged_result(const std::string& dir, const std::string& fingerprint,
+                   const lem::FractureOptions& options) {
+  const std::string staging = lem::staging_dir(dir);
+  if (!options.resume) {
+    if (lem::clear_staging(dir))
+      lem::say("-output_overwrite: %s/ emptied (-checkpoint_resume false)\n", staging.c_str());
+    return false;
+  }
+  if (const auto manifest = lem::read_manifest(staging)) {
+    const std::string differs =
+        other_run(*manifest, fingerprint) + lem::manifest_mismatch(staging, *manifest);
+    if (!differs.empty())
+      throw lem::InputError("'" + staging + "' holds the finished result of another "
+                            "-output_overwrite run of '" + dir + "', not yet in place:" +
+                            differs + "\nrun that command again to put it in place, or pass "
+                            "-checkpoint_resume false to discard it");
+    refuse_if_strict(staging, options);
+    lem::remove_checkpoint(staging);
+    lem::say("-output_overwrite: %s/ holds the complete result of this run, not yet in place "
+             "(the run was stopped while it put it there): putting it in place\n",
+             staging.c_str());
+    return true;
+  }
+  namespace fs = std::filesystem;
+  if (fs::exists(lem::checkpoint_path(staging)) ||
+      fs::exists(lem::checkpoint_path(staging + "/calibration"))) {
+    lem::say("-output_overwrite: resuming the run stopped in %s/\n", staging.c_str());
+    return false;
+  }
+  if (lem::clear_staging(dir))
+    lem::say("-output_overwrite: %s/ held a run stopped before its first checkpoint: "
+             "starting over\n", staging.c_str());
+  return false;
 }
 
 // sigma^[p] and E^[p]: from the calibration file of this lattice if there is
@@ -251,8 +330,9 @@ int main(int argc, char** argv) {
                             "calibrate or use E^p)", 0.0, 0.0, 1e12);
       options.output_dir = g.string("-output_dir", "Directory of the results", "results/fracture");
       overwrite = g.flag("-output_overwrite", "Compute the result again even if -output_dir "
-                         "holds a finished one (its manifest.txt); without it a finished run "
-                         "of the same sample and options is left as it is (exit 0)", false);
+                         "holds a finished one (its manifest.txt), in <output_dir>.overwrite/: "
+                         "it replaces the old one only when complete; without it a finished "
+                         "run of the same sample and options is left as it is (exit 0)", false);
       fields = g.flag("-output_fields", "Write the final displacements and bond states to "
                       "HDF5/XDMF (fields.h5), and those of the first equilibrium with the node "
                       "stresses of eq. 1 (elastic.h5)", true);
@@ -282,18 +362,26 @@ int main(int argc, char** argv) {
     const std::string fingerprint = result_fingerprint(prepared.lattice, options, calibrating,
                                                        sigma_unit, modulus_unit, fields);
 
-    const std::string& dir = options.output_dir;
+    const std::string dir = options.output_dir;
     const lem::OutputLock lock(comm, dir);
+    // A replacement of the result stopped halfway is finished first (the
+    // new result put in place, or the replaced one removed).
+    std::optional<lem::OutputLock> staging_lock;
+    if (staging_is_ours(comm, dir)) staging_lock.emplace(comm, lem::staging_dir(dir));
+    lem::run_on_root(comm, [&] {
+      const std::string done = lem::finish_replacement(dir, part_of_result);
+      if (!done.empty()) lem::say("%s/: %s\n", dir.c_str(), done.c_str());
+    });
+    // Still there: an -output_overwrite run that did not end.
+    const bool staged = staging_is_ours(comm, dir);
+    if (staged && !overwrite)
+      lem::say("note: %s/ holds an -output_overwrite run of %s/ that did not end, left as it "
+               "is: run with -output_overwrite to finish it, or remove %s/\n",
+               lem::staging_dir(dir).c_str(), dir.c_str(), lem::staging_dir(dir).c_str());
     int finished = 0;
     lem::run_on_root(comm, [&] {
       finished = already_finished(dir, fingerprint, overwrite);
-      // The warning options are not part of the fingerprint: a result
-      // finished with warnings is refused under -fracture_strict.
-      if (finished && options.strict && !finished_warnings(dir).empty())
-        throw lem::NumericalError("output directory '" + dir + "' holds a finished result "
-                                  "with warnings (" + finished_warnings(dir) + "), an error "
-                                  "under -fracture_strict; pass -output_overwrite to compute "
-                                  "it again");
+      if (finished) refuse_if_strict(dir, options);
       // A run killed between its commit and the checkpoint's removal.
       if (finished) lem::remove_checkpoint(dir);
     });
@@ -303,19 +391,62 @@ int main(int argc, char** argv) {
                "-output_overwrite to compute it again\n", dir.c_str());
       return;
     }
-    // Withdraw the earlier result (manifest first).  A run that will resume
-    // keeps its logs (maybe already renamed by a run killed while committing)
-    // and the first-equilibrium fields written before its checkpoint.
-    int had_result = 0;
-    lem::run_on_root(comm, [&] { had_result = lem::read_manifest(dir).has_value(); });
-    MPI_Bcast(&had_result, 1, MPI_INT, 0, comm);
+    // -output_overwrite on a finished result: the new one is computed in the
+    // staging folder and takes the old one's place only when complete.
+    int staging = 0, exchange = 0, pending = 0;
+    lem::run_on_root(comm, [&] { staging = overwrite && (staged || lem::has_manifest(dir)); });
+    MPI_Bcast(&staging, 1, MPI_INT, 0, comm);
+    if (!staging) {
+      staging_lock.reset();  // held only to finish or report what it holds
+    } else {
+      lem::run_on_root(comm, [&] {
+        lem::check_replaceable(dir);
+        if (lem::staging_state(dir) == lem::StagingState::foreign)
+          throw lem::InputError("-output_overwrite computes the new result of '" + dir + "' in '" +
+                                lem::staging_dir(dir) + "', which holds something else: move "
+                                "or remove it");
+      });
+      if (!staged) {  // made (again)
+        staging_lock.reset();
+        staging_lock.emplace(comm, lem::staging_dir(dir));
+      }
+      lem::run_on_root(comm, [&] {
+        exchange = lem::prepare_staging(dir);
+        pending = staged_result(dir, fingerprint, options);
+      });
+      MPI_Bcast(&exchange, 1, MPI_INT, 0, comm);
+      MPI_Bcast(&pending, 1, MPI_INT, 0, comm);
+      options.output_dir = lem::staging_dir(dir);
+      if (!pending)
+        lem::say("-output_overwrite: the new result is computed in %s/; the one in %s/ stays "
+                 "until it is complete\n", options.output_dir.c_str(), dir.c_str());
+      if (!exchange)
+        lem::say("-output_overwrite: this filesystem cannot swap two folders in one rename: "
+                 "the new result will take the old one's place by two, between which %s/ "
+                 "does not exist\n", dir.c_str());
+    }
+    // The result in place (a staged one put there), and a stop request
+    // that came while it was written.
+    const auto finish = [&] {
+      if (staging)
+        lem::run_on_root(comm, [&] { lem::install_result(dir, exchange, part_of_result); });
+      lem::say("results in %s/\n", dir.c_str());
+      if (const int signal = lem::stop_requested(comm, "committed"))
+        throw lem::Interrupted("stopped by " + lem::signal_name(signal) + " while the results "
+                               "were written; they are complete in " + dir + "/ (manifest.txt), "
+                               "so running the same command again does nothing");
+    };
+    if (pending) return finish();
+    // Withdraw what an earlier run left (manifest first).  A run that will
+    // resume keeps its logs (maybe already renamed by a run killed while
+    // committing) and the first-equilibrium fields written before its
+    // checkpoint.
+    const std::string work = options.output_dir;  // dir, or its staging folder
     std::vector<std::string> stale = {"summary.json", "summary.csv", "fields.h5", "fields.xmf",
                                       "fracture.png", "stress.png", "stress.json"};
-    if (had_result)  // -output_overwrite: start over
-      stale.insert(stale.end(), {"checkpoint.bin", "curve.csv.part", "broken.csv.part"});
-    if (!resumable(comm, options) || had_result)
+    if (!resumable(comm, options))
       stale.insert(stale.end(), {"curve.csv", "broken.csv", "elastic.h5", "elastic.xmf"});
-    lem::run_on_root(comm, [&] { lem::withdraw_results(dir, stale); });
+    lem::run_on_root(comm, [&] { lem::withdraw_results(work, stale); });
 
     const double e_p = sample.phases.modulus[0], s_p = sample.phases.strength[0];
     double sigma_hom = 0, e_hom = 0;
@@ -405,13 +536,14 @@ int main(int argc, char** argv) {
              (long long)r.iterations, (long long)r.preconditioner_builds, (long long)r.steps,
              r.energy_balance_error, r.seconds);
     // Commit: every file in place and synced, then the manifest, then the
-    // checkpoint goes (docs/fracture.md, "Results").
+    // checkpoint goes (docs/fracture.md, "Results"); then a staged result
+    // takes the old one's place.
     lem::run_on_root(comm, [&] {
-      lem::write_text_file_atomically(dir + "/summary.csv", s.csv());
-      lem::write_text_file_atomically(dir + "/summary.json", s.json());
+      lem::write_text_file_atomically(work + "/summary.csv", s.csv());
+      lem::write_text_file_atomically(work + "/summary.json", s.json());
       std::vector<std::string> files = {"curve.csv", "broken.csv", "summary.csv",
                                         "summary.json"};
-      for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+      for (const auto& entry : std::filesystem::directory_iterator(work)) {
         const std::string name = entry.path().filename().string();
         const std::string ext = entry.path().extension().string();
         if ((name.rfind("snapshot_", 0) == 0 || name.rfind("elastic.", 0) == 0 ||
@@ -421,14 +553,10 @@ int main(int argc, char** argv) {
       }
       std::sort(files.begin() + 4, files.end());
       lem::fault_point("before_manifest");
-      lem::commit_results(dir, "lem_fracture", fingerprint, files);
+      lem::commit_results(work, "lem_fracture", fingerprint, files);
       lem::fault_point("after_manifest");
-      lem::remove_checkpoint(dir);
+      lem::remove_checkpoint(work);
     });
-    lem::say("results in %s/\n", dir.c_str());
-    if (const int signal = lem::stop_requested(comm, "committed"))
-      throw lem::Interrupted("stopped by " + lem::signal_name(signal) + " while the results "
-                             "were written; they are complete in " + dir + "/ (manifest.txt), "
-                             "so running the same command again does nothing");
+    finish();
   }, lem::StopHandling::save_and_exit);
 }

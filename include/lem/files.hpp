@@ -6,12 +6,15 @@
 // the final name, so a killed run leaves either the old file or the new one,
 // never half of one.  A run of several files commits them together with a
 // manifest (commit_results), written last: a directory without one holds no
-// finished result, whatever files it has.
+// finished result, whatever files it has.  A finished result is replaced
+// (lem_fracture -output_overwrite) by a new one computed and committed in a
+// sibling folder, then put in its place in one step (install_result).
 #pragma once
 
 #include <mpi.h>
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <utility>
@@ -42,7 +45,10 @@ void prepare_output_dir(MPI_Comm comm, const std::string& dir,
 /// An exclusive advisory lock (flock) on <dir>/.lock, held by rank 0 for
 /// the object's lifetime (the kernel drops it when the process dies, even
 /// by kill -9).  Creates `dir`.  Collective: every rank throws InputError if
-/// the directory cannot be created or another run holds the lock.
+/// the directory cannot be created or another run holds the lock.  The lock
+/// taken is that of the file at <dir>/.lock once it is held (a lock file
+/// swapped away with its folder by install_result meanwhile is let go and
+/// the new one taken).
 class OutputLock {
  public:
   OutputLock(MPI_Comm comm, const std::string& dir);
@@ -63,6 +69,9 @@ struct Manifest {
   std::vector<std::pair<std::string, std::int64_t>> files;
 };
 
+/// Rank 0: whether `dir` has a manifest (damaged or not).
+bool has_manifest(const std::string& dir);
+
 /// Rank 0: the manifest of `dir`, or nothing if there is none.  InputError
 /// if it is damaged.
 std::optional<Manifest> read_manifest(const std::string& dir);
@@ -79,6 +88,58 @@ void commit_results(const std::string& dir, const std::string& program,
 /// Rank 0: withdraw the result of `dir`: the manifest is removed first (and
 /// the removal synced), then `files`.
 void withdraw_results(const std::string& dir, const std::vector<std::string>& files);
+
+// ---- Replacing a finished result (lem_fracture -output_overwrite) ----------
+// The new run works in the staging folder "<dir>.overwrite" (same parent,
+// so the same filesystem), stamped as such and locked like `dir`, and
+// commits its result there; install_result then swaps the two folders in
+// one rename (renameat2 RENAME_EXCHANGE) and removes the old one, so that
+// at every instant `dir` holds the old complete result or the new one.  A
+// filesystem without that rename (NFS) gets two renames instead, with a
+// moment in which `dir` does not exist.  Whatever a kill interrupts,
+// finish_replacement completes it in the next run on `dir`.
+
+/// "<dir>.overwrite" (`dir` without trailing slashes).
+std::string staging_dir(const std::string& dir);
+
+/// Rank 0: what is at staging_dir(dir): nothing, a staging folder of ours
+/// (stamped, a replaced result, or a bare folder with only a lock), or
+/// something else (`foreign`: never touched).
+enum class StagingState { none, ours, foreign };
+StagingState staging_state(const std::string& dir);
+
+/// Rank 0: InputError unless `dir` can be replaced by a rename of its
+/// sibling: not a symbolic link, '.' or '..', nor a mount point.
+void check_replaceable(const std::string& dir);
+
+/// Names of the entries a result folder's program writes or draws from its
+/// result (curve.csv, calibration, fracture.png, ...).  When a folder is
+/// replaced, its other entries (a study's run.json and log) move into the
+/// new one unless it has its own.
+using ResultNames = std::function<bool(const std::string& name)>;
+
+/// Rank 0, `dir` and its staging folder (if ours) locked: finish a
+/// replacement stopped halfway (two renames cut between them: the new
+/// folder put in place; a replaced folder still there, aside in `dir` or as
+/// the staging folder: removed).  Returns what it did for the log, "" if
+/// nothing.
+std::string finish_replacement(const std::string& dir, const ResultNames& own);
+
+/// Rank 0, the staging folder of `dir` created and locked: checks it is on
+/// the filesystem of `dir` (else InputError), stamps it, and returns whether
+/// that filesystem swaps two folders in one rename (false on EINVAL, ENOSYS
+/// or EOPNOTSUPP, or if LEM_FAULT_NO_EXCHANGE is set: a test hook).
+bool prepare_staging(const std::string& dir);
+
+/// Rank 0: empty the staging folder of `dir` but its lock and stamp; false
+/// if there was nothing to remove.
+bool clear_staging(const std::string& dir);
+
+/// Rank 0: put the result committed in the staging folder of `dir` in place
+/// of the one in `dir` (`exchange`: in one rename, else two), then remove
+/// the old folder (its manifest first), keeping its entries that are not
+/// `own` in `dir`.  The staging folder is gone afterwards.
+void install_result(const std::string& dir, bool exchange, const ResultNames& own);
 
 /// Test hook: if the environment variable LEM_FAULT_KILL names `point`, the
 /// process kills itself with SIGKILL there, as a batch system's kill -9

@@ -5,6 +5,7 @@
 #include <fcntl.h>
 #include <signal.h>
 #include <sys/file.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -21,6 +22,9 @@ namespace lem {
 namespace fs = std::filesystem;
 
 namespace {
+
+constexpr char kManifestName[] = "manifest.txt";
+constexpr char kLockName[] = ".lock";
 
 std::string last_error() { return std::strerror(errno); }
 
@@ -102,28 +106,42 @@ void prepare_output_dir(MPI_Comm comm, const std::string& dir,
 
 OutputLock::OutputLock(MPI_Comm comm, const std::string& dir) {
   run_on_root(comm, [&] {
-    std::error_code ec;
-    fs::create_directories(dir, ec);
-    if (ec || !fs::is_directory(dir))
-      throw InputError("output directory '" + dir + "' cannot be created: " + ec.message());
-    // The lock file is never removed: removing it would let a second run
-    // lock a new file while the first still holds the old one.
-    const std::string path = dir + "/.lock";
-    fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-    if (fd_ < 0)
-      throw InputError("output directory '" + dir + "': cannot open its lock file '" + path +
-                       "': " + last_error());
-    if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
-      const int saved = errno;
+    // The lock file is never removed while it can be in use: removing it
+    // would let a second run lock a new file while the first still holds the
+    // old one.  Only install_result swaps it away, with its folder, while it
+    // holds both; the check after flock lets go of a file swapped away
+    // between our open and our lock, and takes the one now at the path.
+    const std::string path = dir + "/" + kLockName;
+    for (int attempt = 0;; ++attempt) {
+      std::error_code ec;
+      fs::create_directories(dir, ec);
+      if (ec || !fs::is_directory(dir))
+        throw InputError("output directory '" + dir + "' cannot be created: " + ec.message());
+      fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+      if (fd_ < 0)
+        throw InputError("output directory '" + dir + "': cannot open its lock file '" + path +
+                         "': " + last_error());
+      if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+        const int saved = errno;
+        ::close(fd_);
+        fd_ = -1;
+        if (saved == EWOULDBLOCK)
+          throw InputError("output directory '" + dir + "' is in use by another run (it holds "
+                           "the lock on '" + path + "'); wait for it to end or choose another "
+                           "-output_dir");
+        errno = saved;
+        throw InputError("output directory '" + dir + "': cannot lock '" + path + "': " +
+                         last_error());
+      }
+      struct stat held {}, now {};
+      if (::fstat(fd_, &held) == 0 && ::stat(path.c_str(), &now) == 0 &&
+          held.st_dev == now.st_dev && held.st_ino == now.st_ino)
+        return;
       ::close(fd_);
       fd_ = -1;
-      if (saved == EWOULDBLOCK)
-        throw InputError("output directory '" + dir + "' is in use by another run (it holds "
-                         "the lock on '" + path + "'); wait for it to end or choose another "
-                         "-output_dir");
-      errno = saved;
-      throw InputError("output directory '" + dir + "': cannot lock '" + path + "': " +
-                       last_error());
+      if (attempt == 100)
+        throw InputError("output directory '" + dir + "': its lock file '" + path +
+                         "' keeps being replaced");
     }
   });
 }
@@ -133,11 +151,15 @@ OutputLock::~OutputLock() {
 }
 
 namespace {
-constexpr char kManifestName[] = "manifest.txt";
 constexpr char kFileKey[] = "file=";
 constexpr char kProgramKey[] = "program=";
 constexpr char kFingerprintKey[] = "fingerprint ";
 }  // namespace
+
+bool has_manifest(const std::string& dir) {
+  std::error_code ec;
+  return fs::exists(fs::symlink_status(dir + "/" + kManifestName, ec));
+}
 
 std::optional<Manifest> read_manifest(const std::string& dir) {
   const std::string path = dir + "/" + kManifestName;
@@ -214,6 +236,207 @@ void withdraw_results(const std::string& dir, const std::vector<std::string>& fi
   if (fs::remove(dir + "/" + kManifestName, ec)) sync_directory(dir);
   if (ec) throw IoError("cannot remove '" + dir + "/" + kManifestName + "': " + ec.message());
   for (const auto& f : files) fs::remove(dir + "/" + f, ec);
+}
+
+// ---- Replacing a finished result ---------------------------------------
+
+namespace {
+
+constexpr char kStagingSuffix[] = ".overwrite";
+constexpr char kStampName[] = ".overwrite_of";     // a staging folder's stamp
+constexpr char kSupersededName[] = ".superseded";  // a folder whose result was replaced
+constexpr char kAsideName[] = ".replaced";         // the old folder, moved aside
+
+std::string trimmed(const std::string& dir) {
+  std::string d = dir;
+  while (d.size() > 1 && d.back() == '/') d.pop_back();
+  return d;
+}
+
+bool entry_exists(const std::string& path) {
+  std::error_code ec;
+  return fs::exists(fs::symlink_status(path, ec));
+}
+
+// The names in `dir`, read before any is moved.
+std::vector<std::string> entries_of(const std::string& dir) {
+  std::vector<std::string> names;
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(dir, ec))
+    names.push_back(entry.path().filename().string());
+  if (ec) throw IoError("cannot list '" + dir + "': " + ec.message());
+  return names;
+}
+
+void rename_or_throw(const std::string& from, const std::string& to, const std::string& what) {
+  if (std::rename(from.c_str(), to.c_str()) != 0)
+    throw IoError("cannot " + what + ": renaming '" + from + "' to '" + to + "' failed: " +
+                  last_error());
+}
+
+// The replaced folder `old`: its entries that are not the result's go into
+// `dir` (unless it has its own), then it is removed, manifest first, so that
+// a folder half removed never looks finished.
+void discard_replaced(const std::string& old, const std::string& dir, const ResultNames& own) {
+  bool moved = false;
+  for (const auto& name : entries_of(old)) {
+    if (name == kLockName || name == kManifestName || name == kStampName ||
+        name == kSupersededName || name == kAsideName || own(name) ||
+        entry_exists(dir + "/" + name))
+      continue;
+    rename_or_throw(old + "/" + name, dir + "/" + name, "keep '" + name + "'");
+    moved = true;
+  }
+  if (moved) sync_directory(dir);
+  withdraw_results(old, {});
+  fault_point("discarding");
+  std::error_code ec;
+  fs::remove_all(old, ec);
+  if (ec) throw IoError("cannot remove the replaced result '" + old + "': " + ec.message());
+  sync_directory(directory_of(old));
+  if (fs::remove(dir + "/" + kStampName, ec)) sync_directory(dir);
+}
+
+}  // namespace
+
+std::string staging_dir(const std::string& dir) { return trimmed(dir) + kStagingSuffix; }
+
+StagingState staging_state(const std::string& dir) {
+  const std::string staging = staging_dir(dir);
+  std::error_code ec;
+  const auto status = fs::symlink_status(staging, ec);
+  if (!fs::exists(status)) return StagingState::none;
+  if (!fs::is_directory(status)) return StagingState::foreign;
+  if (entry_exists(staging + "/" + kStampName) || entry_exists(staging + "/" + kSupersededName))
+    return StagingState::ours;
+  // Made by a run killed before it stamped it: a lock at most.
+  for (const auto& name : entries_of(staging))
+    if (name != kLockName) return StagingState::foreign;
+  return StagingState::ours;
+}
+
+void check_replaceable(const std::string& dir) {
+  const std::string d = trimmed(dir);
+  const std::string name = fs::path(d).filename().string();
+  const auto refuse = [&](const std::string& why) {
+    throw InputError("-output_overwrite: the result in '" + dir + "' cannot be replaced by a "
+                     "rename (" + why + "); remove its manifest.txt to compute it again in "
+                     "place, or choose another -output_dir");
+  };
+  if (name.empty() || name == "." || name == "..") refuse("name the folder itself");
+  std::error_code ec;
+  if (fs::is_symlink(fs::symlink_status(d, ec)))
+    refuse("it is a symbolic link: pass the folder it points to");
+  struct stat self {}, parent {};
+  if (::stat(d.c_str(), &self) != 0 || ::stat(directory_of(d).c_str(), &parent) != 0)
+    throw IoError("cannot read '" + d + "' or its parent: " + last_error());
+  if (self.st_dev != parent.st_dev) refuse("it is a mount point");
+}
+
+std::string finish_replacement(const std::string& dir, const ResultNames& own) {
+  const std::string d = trimmed(dir), staging = staging_dir(dir);
+  const bool ours = staging_state(dir) == StagingState::ours;
+  std::string done;
+  // Two renames cut between them: the old folder is aside in the staging
+  // folder, and `dir` is the empty folder this run's lock made again.
+  if (ours && fs::is_directory(staging + "/" + kAsideName) && !has_manifest(d) &&
+      entry_exists(staging + "/" + kManifestName)) {
+    for (const auto& name : entries_of(d))
+      if (name != kLockName)
+        throw IoError("cannot finish replacing the result of '" + d + "' by the one in '" +
+                      staging + "': '" + d + "/" + name + "' is in the way");
+    std::error_code ec;
+    fs::remove(d + "/" + kLockName, ec);  // the staging folder's lock, held, comes instead
+    rename_or_throw(staging, d, "finish replacing the result of '" + d + "'");
+    sync_directory(directory_of(d));
+    done = "put the new result of an interrupted -output_overwrite in place";
+  }
+  if (fs::is_directory(d + "/" + kAsideName)) {
+    discard_replaced(d + "/" + kAsideName, d, own);
+    done += std::string(done.empty() ? "" : "; ") + "removed the result it replaced (" + d +
+            "/" + kAsideName + ")";
+  }
+  if (ours && entry_exists(staging + "/" + kSupersededName)) {
+    discard_replaced(staging, d, own);
+    done += std::string(done.empty() ? "" : "; ") +
+            "removed the result replaced by an interrupted -output_overwrite (" + staging + ")";
+  }
+  return done;
+}
+
+bool prepare_staging(const std::string& dir) {
+  const std::string d = trimmed(dir), staging = staging_dir(dir);
+  struct stat a {}, b {};
+  if (::stat(d.c_str(), &a) != 0 || ::stat(staging.c_str(), &b) != 0)
+    throw IoError("cannot read '" + d + "' or '" + staging + "': " + last_error());
+  if (a.st_dev != b.st_dev)
+    throw InputError("-output_overwrite: '" + staging + "' is not on the filesystem of '" + d +
+                     "', so the new result computed there could not take the old one's place "
+                     "by a rename; remove it (or " + d + "/manifest.txt to compute the result "
+                     "again in place)");
+  if (!entry_exists(staging + "/" + kStampName))
+    write_text_file_atomically(staging + "/" + kStampName,
+                               "lem_fracture -output_overwrite computes the new result of '" + d +
+                                   "' here; it takes the old one's place when complete\n");
+  // Does the filesystem swap two folders in one rename?  Tried on two of
+  // its own.
+  const std::string a_dir = staging + "/.exchange_a", b_dir = staging + "/.exchange_b";
+  std::error_code ec;
+  for (const auto& p : {a_dir, b_dir}) {
+    fs::remove_all(p, ec);
+    if (!fs::create_directory(p, ec))
+      throw IoError("cannot create '" + p + "': " + ec.message());
+  }
+  bool swapped = false;
+  int why = 0;  // 0: the test hook says it cannot
+  if (std::getenv("LEM_FAULT_NO_EXCHANGE") == nullptr) {
+    swapped = ::renameat2(AT_FDCWD, a_dir.c_str(), AT_FDCWD, b_dir.c_str(), RENAME_EXCHANGE) == 0;
+    why = swapped ? 0 : errno;
+  }
+  for (const auto& p : {a_dir, b_dir}) fs::remove_all(p, ec);
+  if (why != 0 && why != EINVAL && why != ENOSYS && why != EOPNOTSUPP)
+    throw IoError("cannot exchange '" + a_dir + "' and '" + b_dir + "': " + std::strerror(why));
+  return swapped;
+}
+
+bool clear_staging(const std::string& dir) {
+  const std::string staging = staging_dir(dir);
+  bool removed = false;
+  for (const auto& name : entries_of(staging)) {
+    if (name == kLockName || name == kStampName) continue;
+    std::error_code ec;
+    fs::remove_all(staging + "/" + name, ec);
+    if (ec) throw IoError("cannot remove '" + staging + "/" + name + "': " + ec.message());
+    removed = true;
+  }
+  if (removed) sync_directory(staging);
+  return removed;
+}
+
+void install_result(const std::string& dir, bool exchange, const ResultNames& own) {
+  const std::string d = trimmed(dir), staging = staging_dir(dir), parent = directory_of(d);
+  if (exchange) {
+    // Marked first, so that once swapped the old folder is known as such.
+    write_text_file_atomically(d + "/" + kSupersededName,
+                               "the result in this folder was replaced by -output_overwrite; "
+                               "the folder is removed\n");
+    fault_point("before_exchange");
+    if (::renameat2(AT_FDCWD, staging.c_str(), AT_FDCWD, d.c_str(), RENAME_EXCHANGE) != 0)
+      throw IoError("cannot put the new result in place: exchanging '" + staging + "' and '" +
+                    d + "' failed: " + last_error());
+    sync_directory(parent);
+    fault_point("after_exchange");
+    discard_replaced(staging, d, own);
+    return;
+  }
+  rename_or_throw(d, staging + "/" + kAsideName, "put the new result in place");
+  sync_directory(staging);
+  sync_directory(parent);
+  fault_point("moved_aside");
+  rename_or_throw(staging, d, "put the new result in place");
+  sync_directory(parent);
+  fault_point("after_install");
+  discard_replaced(d + "/" + kAsideName, d, own);
 }
 
 void fault_point(const char* point) {

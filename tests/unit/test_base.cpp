@@ -1,5 +1,6 @@
-// The ground floor at one rank: phases, the atomic writer, exit statuses,
-// PETSc handles, the byte serialiser, the cell grid.
+// The ground floor at one rank: phases, the atomic writer, the output
+// folder's lock, manifest and replacement, exit statuses, PETSc handles, the
+// byte serialiser, the cell grid.
 #include "lem/byte_stream.hpp"
 #include "lem/cell_grid.hpp"
 #include "lem/cemented_sample.hpp"
@@ -134,6 +135,72 @@ TEST_F(Files, ManifestListsTheCommittedFilesAndIsWithdrawnFirst) {
   EXPECT_FALSE(fs::exists(path("manifest.txt")));
   EXPECT_FALSE(fs::exists(path("curve.csv")));
   EXPECT_TRUE(fs::exists(path("summary.json")));
+}
+
+namespace {
+
+// A folder holding a committed result whose curve.csv is `curve`.
+void committed(const std::string& dir, const std::string& curve) {
+  fs::create_directories(dir);
+  { std::ofstream(dir + "/curve.csv") << curve; }
+  commit_results(dir, "prog", "x=1\n", {"curve.csv"});
+}
+
+bool own_names(const std::string& name) { return name == "curve.csv" || name == "plot.png"; }
+
+}  // namespace
+
+TEST_F(Files, StagingFolderIsOursOnlyWhenStampedOrBare) {
+  const std::string dir = path("out"), staging = path("out.overwrite");
+  EXPECT_EQ(staging_dir(dir + "/"), staging);
+  EXPECT_EQ(staging_state(dir), StagingState::none);
+  fs::create_directories(staging);
+  { std::ofstream(staging + "/.lock"); }
+  EXPECT_EQ(staging_state(dir), StagingState::ours);  // made by a run killed at once
+  { std::ofstream(staging + "/notes.txt") << "mine"; }
+  EXPECT_EQ(staging_state(dir), StagingState::foreign);
+  fs::create_directories(dir);
+  prepare_staging(dir);  // stamps it
+  EXPECT_EQ(staging_state(dir), StagingState::ours);
+  EXPECT_TRUE(clear_staging(dir));
+  EXPECT_FALSE(fs::exists(staging + "/notes.txt"));
+  EXPECT_EQ(staging_state(dir), StagingState::ours);
+}
+
+TEST_F(Files, InstallResultReplacesTheFolderAndKeepsWhatIsNotTheResults) {
+  for (const bool one_rename : {true, false}) {
+    const std::string dir = path(one_rename ? "a" : "b");
+    committed(dir, "old\n");
+    { std::ofstream(dir + "/run.json") << "{}"; }   // a study's: kept
+    { std::ofstream(dir + "/plot.png") << "old"; }  // drawn from the old result: not
+    fs::create_directories(staging_dir(dir));
+    const bool exchange = prepare_staging(dir) && one_rename;
+    committed(staging_dir(dir), "new\n");
+    install_result(dir, exchange, own_names);
+    EXPECT_EQ(read(dir + "/curve.csv"), "new\n");
+    EXPECT_EQ(manifest_mismatch(dir, *read_manifest(dir)), "");
+    EXPECT_TRUE(fs::exists(dir + "/run.json"));
+    for (const char* gone : {"/plot.png", "/.overwrite_of", "/.superseded", "/.replaced"})
+      EXPECT_FALSE(fs::exists(dir + gone)) << gone;
+    EXPECT_FALSE(fs::exists(staging_dir(dir)));
+    EXPECT_EQ(finish_replacement(dir, own_names), "");
+  }
+}
+
+TEST_F(Files, ReplacementCutBetweenItsTwoRenamesIsFinished) {
+  const std::string dir = path("out"), staging = staging_dir(dir);
+  committed(dir, "old\n");
+  { std::ofstream(dir + "/run.json") << "{}"; }
+  fs::create_directories(staging);
+  prepare_staging(dir);
+  committed(staging, "new\n");
+  fs::rename(dir, staging + "/.replaced");  // the first rename; then killed
+  const OutputLock lock(MPI_COMM_SELF, dir);  // the next run makes the folder again
+  EXPECT_NE(finish_replacement(dir, own_names).find("in place"), std::string::npos);
+  EXPECT_EQ(read(dir + "/curve.csv"), "new\n");
+  EXPECT_TRUE(fs::exists(dir + "/run.json"));
+  EXPECT_FALSE(fs::exists(dir + "/.replaced"));
+  EXPECT_FALSE(fs::exists(staging));
 }
 
 TEST(Errors, ExitStatusFollowsTheType) {
