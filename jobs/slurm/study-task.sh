@@ -1,6 +1,7 @@
 #!/bin/bash
 # One step of a parametric study as a Slurm batch job (submitted by
-# submit-study.sh; an array task runs the sample or the run of its index).
+# submit-study.sh; an array task runs the sample, the lattice's calibration
+# or the run of its index).
 # Usage (sbatch): study-task.sh STEP STUDY.yaml OUT_DIR    STEP: samples | calibrate | run | gather
 #
 # Before the time limit Slurm sends SIGUSR1 (--signal=B:USR1@...): it is passed
@@ -14,10 +15,11 @@ root="${LEM_ROOT:-$(cd "$(dirname "$0")/../.." && pwd)}"
 # Inside the allocation mpirun starts SLURM_NTASKS ranks; root needs the flags.
 export LEM_MPIRUN="${LEM_MPIRUN:-mpirun --allow-run-as-root --oversubscribe}"
 index=()
-[ -n "${SLURM_ARRAY_TASK_ID:-}" ] && [ "$step" != calibrate ] && [ "$step" != gather ] &&
+[ -n "${SLURM_ARRAY_TASK_ID:-}" ] && [ "$step" != gather ] &&
   index=(--index "$SLURM_ARRAY_TASK_ID")
 ranks=()
-[ "$step" = run ] && [ -n "${SLURM_NTASKS:-}" ] && ranks=(--ranks "$SLURM_NTASKS")
+{ [ "$step" = run ] || [ "$step" = calibrate ]; } && [ -n "${SLURM_NTASKS:-}" ] &&
+  ranks=(--ranks "$SLURM_NTASKS")
 
 /usr/bin/python3 "$root/tools/study.py" "$step" "$study" "$out" "${index[@]}" "${ranks[@]}" &
 child=$!

@@ -81,6 +81,13 @@ def cube_lattice(n):
     return coords, np.full(len(coords), 1.0 / len(coords))
 
 
+def write_study_file(tmp_path, text, name):
+    """`text` written to tmp_path/name; the path as a string."""
+    path = tmp_path / name
+    path.write_text(text)
+    return str(path)
+
+
 @pytest.fixture
 def fracture_dir(tmp_path):
     return write_fracture_results(str(tmp_path / "run"))

@@ -11,7 +11,7 @@ import time
 
 import pytest
 
-from conftest import write_curve, write_manifest
+from conftest import write_curve, write_manifest, write_study_file
 from lem_tools import results, study
 from lem_tools.study import Study, StudyError, load_study
 
@@ -24,9 +24,7 @@ sigma_pm_ratios: [0.4, 1.2]
 
 
 def study_file(tmp_path, text=BASE, name="s.yaml"):
-    path = tmp_path / name
-    path.write_text(text)
-    return str(path)
+    return write_study_file(tmp_path, text, name)
 
 
 def test_valid_study_gets_the_defaults(tmp_path):

@@ -11,8 +11,12 @@ Modules:
   cli            argparse set-up and error reporting shared by the commands
   plot_*         one figure command each
   study          study file, runs, status; the `study.py` command
+  study_axes     a study's bond-count and replicate axes, the lattices they make
   study_table    results.csv and fit.json of a study (gather)
   study_plots    the study's figures
+  convergence    replicate statistics, the fit in L_n and its extrapolation (no plotting)
+  convergence_table  samples.csv, convergence*.csv and convergence.md (gather)
+  convergence_plots  the convergence figures (paper fig. 6 extended)
 
 The commands are run through the scripts next to this package
 (tools/plot_fracture.py, tools/study.py, ...), each with --help.

@@ -17,11 +17,14 @@ def phase_color(phase):
     return PHASE_COLORS.get(phase, OTHER_PHASE_COLOR)
 
 
-def save_figure(fig, path, **savefig_args):
-    """Write `fig` to `path` (format from its extension, PNG without one) and close it."""
-    extension = os.path.splitext(path)[1][1:].lower()
+def save_figure(fig, path, also=(), **savefig_args):
+    """Write `fig` to `path` (format from its extension, PNG without one),
+    and beside it with each extension of `also` (e.g. ".pdf"), and close it."""
+    stem = os.path.splitext(path)[0]
     try:
-        with atomic_path(path) as temporary:
-            fig.savefig(temporary, format=extension or "png", **savefig_args)
+        for target in [path] + [stem + extension for extension in also]:
+            extension = os.path.splitext(target)[1][1:].lower()
+            with atomic_path(target) as temporary:
+                fig.savefig(temporary, format=extension or "png", **savefig_args)
     finally:
         plt.close(fig)

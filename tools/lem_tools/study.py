@@ -2,11 +2,15 @@
 
 Commands (each skips what is already complete, so any can be rerun):
   plan       check the study file, record it in OUT_DIR/study.json, list the runs
-  samples    build the shared samples, one per matrix fraction (lem_sample)
-  calibrate  sigma^[p] and E^[p] on the homogeneous lattice (lem_fracture)
+  samples    build the shared samples, one per lattice and matrix fraction
+             (lem_sample); --index I for one
+  calibrate  sigma^[p] and E^[p] on the homogeneous lattice (lem_fracture), one
+             per lattice (--index I for one), then the elastic pulls of that
+             lattice's samples if the study asks for them (lem_tension)
   run        the tension runs (lem_fracture under mpirun); --index I for one
-  gather     one table (results.csv) and the paper's figures from complete runs
-  status     complete / failed / pending runs
+  gather     one table (results.csv) and the paper's figures from complete runs;
+             with a bond axis or replicates also the convergence table and figures
+  status     complete / failed / pending runs (and elastic pulls)
   all        plan, samples, calibrate, run and gather on this machine
 
 Study file keys (YAML; anything else is an error):
@@ -20,13 +24,25 @@ Study file keys (YAML; anything else is an error):
   phases             E_p, E_m, E_pp, E_pm, sigma_p (defaults: the paper's
                      3, 1, 1, 1 and 0.01; sigma^m = sigma^p, sigma^pp = 0)
   fracture           lem_fracture / PETSc options of every run, without the dash
+Resolution and replicate axes (optional; docs/convergence-study.md):
+  lattice_bonds or lattice_bonds_per_particle   list of lattice sizes
+  pack_seeds, lattice_seeds                     lists of lem_sample seeds
+  replicates_up_to   bond-axis value up to which every seed pair is run
+  fracture_up_to     bond-axis value up to which the fracture runs are made
+  elastic            true: pull every sample with lem_tension (E_eff, nu; bare
+                     and adhesive contacts)
 
 Layout of OUT_DIR: study.json, samples/rho_<r>.h5, calibration/, runs/<id>/
 (run.json, the lem_fracture results, log, failed.json after a failure),
-results.csv, figures/*.png, fit.json.  A run is complete when its
-manifest.txt agrees with its files and its run.json matches the study; an
-interrupted run (exit 4, checkpoint written) resumes from its checkpoint when
-run again.
+results.csv, figures/*.png, fit.json.  With axes, every lattice has a tag
+(e.g. bpp1250_p2_l3: bonds per particle, pack seed, lattice seed) that
+prefixes its samples (samples/<tag>_rho_<r>.h5) and runs and names its
+calibration (calibration/<tag>/); elastic pulls go to elastic/<sample>_bare/
+and elastic/<sample>_adhesive/, and gather adds samples.csv,
+convergence.csv, convergence.md and figures/convergence_*.png.  A run is
+complete when its manifest.txt agrees with its files and its run.json matches
+the study; an interrupted run (exit 4, checkpoint written) resumes from its
+checkpoint when run again.
 """
 import hashlib
 import json
@@ -43,27 +59,23 @@ from . import cli
 from .errors import ToolError
 from .files import write_json
 from .results import ResultsError, finished_problem, read_json
+from .study_axes import AXIS_KEYS, SUBSET_KEYS, has_axes, is_number, lattices, read_axes
 
 TOOLS = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 ROOT = os.path.dirname(TOOLS)
-KEYS = {"name", "ranks", "sample", "matrix_fractions", "sigma_pm_ratios", "phases", "fracture"}
+KEYS = {"name", "ranks", "sample", "matrix_fractions", "sigma_pm_ratios", "phases",
+        "fracture"} | AXIS_KEYS
 PHASE_KEYS = {"E_p": 3.0, "E_m": 1.0, "E_pp": 1.0, "E_pm": 1.0, "sigma_p": 0.01}
 GRID_RANGES = {"matrix_fractions": (0.0, 0.5), "sigma_pm_ratios": (0.0, 100.0)}
 OPTION_NAME = re.compile(r"[A-Za-z][A-Za-z0-9_]*\Z")
 RESERVED_OPTIONS = {"matrix_fraction", "output_dir", "output_stem", "sample_file"}
 COMMANDS = ("plan", "samples", "calibrate", "run", "gather", "status", "all")
 EXIT_INTERRUPTED = 4  # lem_fracture: checkpoint written after SIGTERM / SIGUSR1
+ELASTIC_CONTACTS = ("bare", "adhesive")
 
 
 class StudyError(ToolError):
     pass
-
-
-def is_number(value):
-    """A finite int or float; YAML's true/false are bools, which Python would
-    otherwise take for 1 and 0."""
-    return (isinstance(value, (int, float)) and not isinstance(value, bool)
-            and math.isfinite(value))
 
 
 def options_list(d):
@@ -147,13 +159,16 @@ def load_study(path):
     clash = RESERVED_OPTIONS & (set(study["sample"]) | set(study["fracture"]))
     if clash:
         raise bad("%s are set by the study itself", ", ".join(sorted(clash)))
+    study.update(read_axes(s, study["sample"], bad))
     return study
 
 
 def study_hash(study):
     """Identity of a study's results: everything but the rank count, which
-    changes how runs are made, not what they give."""
-    text = json.dumps({k: v for k, v in study.items() if k != "ranks"}, sort_keys=True)
+    changes how runs are made, not what they give, and the keys that only
+    choose which runs of the grid are made (replicates_up_to, fracture_up_to)."""
+    left_out = {"ranks", *SUBSET_KEYS}
+    text = json.dumps({k: v for k, v in study.items() if k not in left_out}, sort_keys=True)
     return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
@@ -163,25 +178,63 @@ class Study:
         self.out = out
         self.bin = bin_dir or os.path.join(ROOT, "build")
         self.hash = study_hash(self.spec)
+        self.lattices = lattices(self.spec)
+        self.by_tag = {lattice["tag"]: lattice for lattice in self.lattices}
 
     # --- layout -----------------------------------------------------------
-    def sample_stem(self, rho):
-        return "rho_%.4f" % rho
+    def samples(self):
+        """Every sample, lattice by lattice: its lattice, rho^m and file stem."""
+        return [{"lattice": lattice, "rho_m": rho, "stem": self.sample_stem(lattice, rho)}
+                for lattice in self.lattices for rho in self.spec["matrix_fractions"]]
 
-    def sample_file(self, rho):
-        return os.path.join(self.out, "samples", self.sample_stem(rho) + ".h5")
+    @staticmethod
+    def sample_stem(lattice, rho):
+        stem = "rho_%.4f" % rho
+        return stem if lattice["tag"] is None else "%s_%s" % (lattice["tag"], stem)
+
+    def sample_file(self, lattice, rho):
+        return os.path.join(self.out, "samples", self.sample_stem(lattice, rho) + ".h5")
+
+    def lattice_of(self, item):
+        """The lattice of a run (or an elastic pull), from its `lattice` tag."""
+        return self.by_tag[item.get("lattice")]
 
     def runs(self):
-        """Every run: id, rho^m, sigma^pm / sigma^p, in a fixed order."""
+        """Every fracture run: id, rho^m, sigma^pm / sigma^p (and the tag of
+        its lattice in a study with axes), in a fixed order."""
         out = []
-        for rho in self.spec["matrix_fractions"]:
-            for ratio in self.spec["sigma_pm_ratios"]:
-                out.append({"id": "rho_%.4f_spm_%.4f" % (rho, ratio), "rho_m": rho,
-                            "sigma_pm_ratio": ratio})
+        for lattice in self.lattices:
+            if not lattice["fracture"]:
+                continue
+            for rho in self.spec["matrix_fractions"]:
+                for ratio in self.spec["sigma_pm_ratios"]:
+                    run = {"id": "%s_spm_%.4f" % (self.sample_stem(lattice, rho), ratio),
+                           "rho_m": rho, "sigma_pm_ratio": ratio}
+                    if lattice["tag"] is not None:
+                        run["lattice"] = lattice["tag"]
+                    out.append(run)
         return out
 
     def run_dir(self, run):
         return os.path.join(self.out, "runs", run["id"])
+
+    def elastic_pulls(self, lattice=None):
+        """The elastic pulls (every sample of `lattice`, or of the study, with
+        bare and with adhesive contacts) if the study asks for them."""
+        if not self.spec.get("elastic"):
+            return []
+        return [{"id": "%s_%s" % (s["stem"], contacts), "rho_m": s["rho_m"],
+                 "lattice": s["lattice"]["tag"], "contacts": contacts}
+                for s in self.samples() if lattice is None or s["lattice"] is lattice
+                for contacts in ELASTIC_CONTACTS]
+
+    def pull_dir(self, pull):
+        return os.path.join(self.out, "elastic", pull["id"])
+
+    def calibration_dir(self, lattice):
+        if lattice["tag"] is None:
+            return os.path.join(self.out, "calibration")
+        return os.path.join(self.out, "calibration", lattice["tag"])
 
     # --- steps ------------------------------------------------------------
     def plan(self):
@@ -197,68 +250,97 @@ class Study:
         else:
             write_json(record, dict(self.spec, hash=self.hash))
         runs = self.runs()
-        print("study %s (hash %s): %d samples x %d sigma^pm = %d runs in %s"
-              % (self.spec["name"], self.hash, len(self.spec["matrix_fractions"]),
-                 len(self.spec["sigma_pm_ratios"]), len(runs), self.out))
+        if not has_axes(self.spec):
+            print("study %s (hash %s): %d samples x %d sigma^pm = %d runs in %s"
+                  % (self.spec["name"], self.hash, len(self.spec["matrix_fractions"]),
+                     len(self.spec["sigma_pm_ratios"]), len(runs), self.out))
+        else:
+            print("study %s (hash %s): %d lattices x %d matrix fractions = %d samples; %d "
+                  "fracture runs, %d elastic pulls in %s"
+                  % (self.spec["name"], self.hash, len(self.lattices),
+                     len(self.spec["matrix_fractions"]), len(self.samples()), len(runs),
+                     len(self.elastic_pulls()), self.out))
         return runs
 
     def make_samples(self, index=None):
-        rhos = self.spec["matrix_fractions"]
-        chosen = rhos if index is None else [pick(rhos, index, "sample")]
+        samples = self.samples()
+        chosen = samples if index is None else [pick(samples, index, "sample")]
         os.makedirs(os.path.join(self.out, "samples"), exist_ok=True)
-        for rho in chosen:
-            stem = self.sample_stem(rho)
+        for sample in chosen:
+            stem, lattice = sample["stem"], sample["lattice"]
+            path = self.sample_file(lattice, sample["rho_m"])
             done = os.path.join(self.out, "samples", stem + "_summary.json")
-            if os.path.exists(done) and os.path.exists(self.sample_file(rho)):
+            if os.path.exists(done) and os.path.exists(path):
                 print("sample %s: complete" % stem)
                 continue
-            cmd = [os.path.join(self.bin, "lem_sample")] + options_list(self.spec["sample"]) + [
-                "-matrix_fraction", str(rho), "-output_dir", os.path.join(self.out, "samples"),
-                "-output_stem", stem]
+            options = dict(self.spec["sample"], **lattice["sample_options"])
+            cmd = [os.path.join(self.bin, "lem_sample")] + options_list(options) + [
+                "-matrix_fraction", str(sample["rho_m"]),
+                "-output_dir", os.path.join(self.out, "samples"), "-output_stem", stem]
             print("sample %s: %s" % (stem, " ".join(cmd)), flush=True)
             log = os.path.join(self.out, "samples", stem + ".log")
             if execute(cmd, log) != 0:
                 raise StudyError("sample %s failed (log: %s): %s" % (stem, log, tail(log)))
 
+    def moduli_options(self, e_pp):
+        ph = self.spec["phases"]
+        return ["-phase_E_p", str(ph["E_p"]), "-phase_E_m", str(ph["E_m"]),
+                "-phase_E_pp", str(e_pp), "-phase_E_pm", str(ph["E_pm"])]
+
     def fracture_command(self, sample, out_dir, extra):
         ph = self.spec["phases"]
         return (mpirun(self.spec["ranks"]) + [
-            os.path.join(self.bin, "lem_fracture"), "-sample_file", sample, "-output_dir", out_dir,
-            "-phase_E_p", str(ph["E_p"]), "-phase_E_m", str(ph["E_m"]),
-            "-phase_E_pp", str(ph["E_pp"]), "-phase_E_pm", str(ph["E_pm"]),
+            os.path.join(self.bin, "lem_fracture"), "-sample_file", sample, "-output_dir", out_dir]
+            + self.moduli_options(ph["E_pp"]) + [
             "-phase_sigma_p", str(ph["sigma_p"]), "-phase_sigma_m", str(ph["sigma_p"]),
             "-phase_sigma_pp", "0"] + options_list(self.spec["fracture"]) + extra)
 
-    def calibration(self):
-        directory = os.path.join(self.out, "calibration")
+    def calibration(self, lattice):
+        directory = self.calibration_dir(lattice)
         if finished_problem(directory) is not None:
             return None
         return read_json(os.path.join(directory, "summary.json"))
 
-    def calibrate(self):
+    def calibrate(self, index=None):
+        """Each lattice (or the one of --index): its calibration, then the
+        elastic pulls of its samples if the study asks for them.  A failed
+        pull leaves failed.json (status and gather report it) but does not
+        fail the step: the fracture runs need only the calibration."""
+        chosen = self.lattices if index is None else [pick(self.lattices, index, "lattice")]
+        for lattice in chosen:
+            if self.calibrate_lattice(lattice) == EXIT_INTERRUPTED:
+                return EXIT_INTERRUPTED
+            for pull in self.elastic_pulls(lattice):
+                if self.pull_one(pull) == EXIT_INTERRUPTED:
+                    return EXIT_INTERRUPTED
+        return 0
+
+    def calibrate_lattice(self, lattice):
         """sigma^[p], E^[p]: the same lattice (and so the same homogeneous
-        lattice) underlies every sample, so one calibration serves them all."""
-        if self.calibration():
-            print("calibration: complete")
+        lattice) underlies every sample of a lattice, so one calibration
+        serves them all."""
+        label = "calibration" if lattice["tag"] is None else "calibration " + lattice["tag"]
+        if self.calibration(lattice):
+            print("%s: complete" % label)
             return 0
         rho = self.spec["matrix_fractions"][0]
-        out_dir = os.path.join(self.out, "calibration")
+        out_dir = self.calibration_dir(lattice)
         os.makedirs(out_dir, exist_ok=True)
-        cmd = self.fracture_command(self.sample_file(rho), out_dir,
+        cmd = self.fracture_command(self.sample_file(lattice, rho), out_dir,
                                     ["-fracture_max_steps", "1", "-output_fields", "false"])
-        print("calibration: " + " ".join(cmd), flush=True)
+        print("%s: %s" % (label, " ".join(cmd)), flush=True)
         log = os.path.join(out_dir, "log")
         status = execute(cmd, log)
         if status == EXIT_INTERRUPTED:
-            print("calibration: interrupted after a checkpoint; run it again to resume")
+            print("%s: interrupted after a checkpoint; run it again to resume" % label)
             return status
         if status != 0:
-            raise StudyError("calibration failed (log: %s): %s" % (log, tail(log)))
+            raise StudyError("%s failed (log: %s): %s" % (label, log, tail(log)))
         return 0
 
     def run_record(self, run):
         return dict(run, study_hash=self.hash, sample=os.path.abspath(
-            self.sample_file(run["rho_m"])))
+            self.sample_file(self.lattice_of(run), run["rho_m"])))
 
     def is_complete(self, run):
         d = self.run_dir(run)
@@ -268,49 +350,83 @@ class Study:
         except ResultsError:
             return False
 
+    def pull_complete(self, pull):
+        d = self.pull_dir(pull)
+        try:
+            return (read_json(os.path.join(d, "run.json")) == self.run_record(pull)
+                    and os.path.exists(os.path.join(d, "summary.json")))
+        except ResultsError:
+            return False
+
     def state(self, run):
         """complete, failed (failed.json written) or pending."""
-        if self.is_complete(run):
+        complete = self.pull_complete(run) if "contacts" in run else self.is_complete(run)
+        if complete:
             return "complete"
-        if os.path.exists(os.path.join(self.run_dir(run), "failed.json")):
+        d = self.pull_dir(run) if "contacts" in run else self.run_dir(run)
+        if os.path.exists(os.path.join(d, "failed.json")):
             return "failed"
         return "pending"
+
+    def launch(self, item, directory, cmd, kind="run"):
+        """Record `item` (a run or a pull) in `directory`, run `cmd` there and
+        report as `kind`; a failure leaves failed.json.  Returns the exit
+        status."""
+        os.makedirs(directory, exist_ok=True)
+        write_json(os.path.join(directory, "run.json"), self.run_record(item))
+        failed = os.path.join(directory, "failed.json")
+        if os.path.exists(failed):
+            os.remove(failed)
+        print("%s %s: %s" % (kind, item["id"], " ".join(cmd)), flush=True)
+        log = os.path.join(directory, "log")
+        status = execute(cmd, log)
+        if status == 0:
+            print("%s %s: complete" % (kind, item["id"]))
+        elif status == EXIT_INTERRUPTED:
+            print("%s %s: interrupted after a checkpoint; run it again to resume"
+                  % (kind, item["id"]))
+        else:
+            write_json(failed, {"exit_status": status, "log_tail": tail(log)})
+            print("%s %s: FAILED (exit %d): %s" % (kind, item["id"], status, tail(log)))
+        return status
+
+    def pull_one(self, pull):
+        """lem_tension on a sample: E_eff and nu with bare contacts (E^pp = 0)
+        or adhesive ones (E^pp = E^pm)."""
+        if self.pull_complete(pull):
+            print("elastic %s: complete" % pull["id"])
+            return 0
+        d = self.pull_dir(pull)
+        e_pp = 0 if pull["contacts"] == "bare" else self.spec["phases"]["E_pm"]
+        cmd = mpirun(self.spec["ranks"]) + [
+            os.path.join(self.bin, "lem_tension"), "-sample_file",
+            self.sample_file(self.lattice_of(pull), pull["rho_m"]), "-output_dir", d,
+            "-output_fields", "false"] + self.moduli_options(e_pp)
+        return self.launch(pull, d, cmd, "elastic")
 
     def run_one(self, run):
         d = self.run_dir(run)
         if self.is_complete(run):
             print("run %s: complete" % run["id"])
             return 0
-        cal = self.calibration()
+        lattice = self.lattice_of(run)
+        cal = self.calibration(lattice)
         if not cal:
-            raise StudyError("no calibration in %s/calibration: run the calibrate step first"
-                             % self.out)
-        if not os.path.exists(self.sample_file(run["rho_m"])):
-            raise StudyError("sample %s missing: run the samples step first"
-                             % self.sample_file(run["rho_m"]))
-        os.makedirs(d, exist_ok=True)
-        write_json(os.path.join(d, "run.json"), self.run_record(run))
-        failed = os.path.join(d, "failed.json")
-        if os.path.exists(failed):
-            os.remove(failed)
+            raise StudyError("no calibration in %s: run the calibrate step first"
+                             % self.calibration_dir(lattice))
+        sample = self.sample_file(lattice, run["rho_m"])
+        if not os.path.exists(sample):
+            raise StudyError("sample %s missing: run the samples step first" % sample)
         sigma_pm = run["sigma_pm_ratio"] * self.spec["phases"]["sigma_p"]
-        cmd = self.fracture_command(self.sample_file(run["rho_m"]), d, [
+        cmd = self.fracture_command(sample, d, [
             "-phase_sigma_pm", repr(sigma_pm), "-fracture_calibrate", "false",
             "-fracture_sigma_unit", repr(cal["sigma_hom"]),
             "-fracture_modulus_unit", repr(cal["E_hom"])])
-        print("run %s: %s" % (run["id"], " ".join(cmd)), flush=True)
-        status = execute(cmd, os.path.join(d, "log"))
+        status = self.launch(run, d, cmd)
         if status == 0:
             # its own process: a failed stress figure must not fail the run
             subprocess.run([sys.executable, os.path.join(TOOLS, "plot_stress.py"), d],
                            stdout=subprocess.DEVNULL, check=False)
-            print("run %s: complete" % run["id"])
-        elif status == EXIT_INTERRUPTED:
-            print("run %s: interrupted after a checkpoint; run it again to resume" % run["id"])
-        else:
-            write_json(failed, {"exit_status": status, "log_tail": tail(os.path.join(d, "log"))})
-            print("run %s: FAILED (exit %d): %s" % (run["id"], status,
-                                                     tail(os.path.join(d, "log"))))
         return status
 
     def run_all(self, index=None):
@@ -325,7 +441,7 @@ class Study:
 
     def status(self):
         counts = {"complete": 0, "failed": 0, "pending": 0}
-        for run in self.runs():
+        for run in self.runs() + self.elastic_pulls():
             state = self.state(run)
             counts[state] += 1
             if state != "complete":
@@ -394,7 +510,7 @@ def do(args):
         study.make_samples(index if command == "samples" else None)
     status = 0
     if command in ("calibrate", "all"):
-        status = study.calibrate()
+        status = study.calibrate(index if command == "calibrate" else None)
         if status == EXIT_INTERRUPTED:
             return status
     if command in ("run", "all"):
@@ -422,7 +538,8 @@ def main(argv=None):
     arg_parser.add_argument("study_file", metavar="STUDY.yaml", help="the study file")
     arg_parser.add_argument("out", metavar="OUT_DIR", help="the study's output folder")
     arg_parser.add_argument("--index", type=int, metavar="I",
-                            help="one sample (samples) or one run (run) by its number")
+                            help="one sample (samples), one lattice (calibrate) or one run "
+                                 "(run) by its number")
     arg_parser.add_argument("--ranks", type=int, metavar="N",
                             help="MPI ranks per run (default: the study's `ranks`)")
     arg_parser.add_argument("--bin", metavar="DIR",
@@ -445,6 +562,20 @@ and writes, in the study's output folder:
                               of eq. 14 (fig. 16)
   figures/stiffness_stress.png  E_eff against rho^m (fig. 5) and the tail
                               exponent beta of the node stresses (fig. 8)
+A study with a bond axis or replicates (docs/convergence-study.md) draws
+these from one lattice (the first seeds at the finest size with fracture
+runs; fit.json names it) and adds:
+  samples.csv         one row per sample: lattice, L_n, calibration, E_eff and
+                      nu of the elastic pulls
+  convergence.csv     per quantity and grid point: the value extrapolated to
+                      L_n -> 0 and its standard error, the finest value, the
+                      replicate scatter and where it exceeds the
+                      discretisation error
+  convergence_levels.csv  per quantity, grid point and size: mean, standard
+                      deviation, number of runs
+  convergence.md      the same as markdown tables
+  figures/convergence_elastic, _strength, _damage (.png, .pdf)
+                      every quantity against L_n with the fitted line
 Runs that are not complete are listed and left out; the exit status is then 1.
 """
 

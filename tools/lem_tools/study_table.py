@@ -1,13 +1,16 @@
 """The gather step of a study: one row per complete run in results.csv, the
-fits in fit.json, then the figures (study_plots)."""
+fits in fit.json, then the figures (study_plots); in a study with a bond
+axis or replicates also the convergence tables and figures
+(convergence_table)."""
 import csv
 import os
 
-from . import study_plots
+from . import convergence_table, study_plots
 from .analysis import fit_eq10, group_by_rho, k_c_r_eq14, share_without_bare_contacts
 from .files import atomic_open, write_json
 from .phases import BREAKABLE, broken_column
 from .results import STUDY_COLUMNS, read_curve, read_stress_beta, read_summary
+from .study_axes import has_axes
 
 
 def run_row(run, summary, phases, beta):
@@ -29,23 +32,31 @@ def run_row(run, summary, phases, beta):
     return row
 
 
-def collect(study):
-    """Rows of the complete runs, and (id, state) of the others."""
+def collect(study, samples=None):
+    """Rows of the complete runs, and (id, state) of the others (elastic
+    pulls included).  With `samples` (convergence_table.sample_rows by
+    sample stem), each row also has the columns of its lattice."""
     rows, missing = [], []
-    for run in study.runs():
+    for run in study.runs() + study.elastic_pulls():
         state = study.state(run)
         if state != "complete":
             missing.append((run["id"], "failed" if state == "failed" else "not complete"))
             continue
+        if "contacts" in run:
+            continue  # an elastic pull: in samples.csv
         d = study.run_dir(run)
-        rows.append(run_row(run, read_summary(os.path.join(d, "summary.json")),
-                            study.spec["phases"], read_stress_beta(os.path.join(d, "stress.json"))))
+        row = run_row(run, read_summary(os.path.join(d, "summary.json")),
+                      study.spec["phases"], read_stress_beta(os.path.join(d, "stress.json")))
+        if samples is not None:
+            row.update(convergence_table.run_axis_columns(study, run, samples))
+            convergence_table.add_shares(row)
+        rows.append(row)
     return rows, missing
 
 
-def write_table(path, rows):
+def write_table(path, rows, columns=STUDY_COLUMNS):
     with atomic_open(path, newline="") as f:
-        writer = csv.DictWriter(f, fieldnames=STUDY_COLUMNS)
+        writer = csv.DictWriter(f, fieldnames=columns)
         writer.writeheader()
         for r in rows:
             writer.writerow(r)
@@ -54,24 +65,37 @@ def write_table(path, rows):
 def gather(study):
     """Write results.csv, fit.json and figures/ of `study` (a study.Study);
     exit status 1 when a run is left out or none is complete."""
-    rows, missing = collect(study)
+    axes = has_axes(study.spec)
+    samples = convergence_table.sample_rows(study) if axes else None
+    rows, missing = collect(study, None if samples is None else {s["sample"]: s for s in samples})
     for run_id, state in missing:
         print("gather: %s %s: left out" % (run_id, state))
     if not rows:
         print("gather: no complete run in %s" % study.out)
         return 1
     table = os.path.join(study.out, "results.csv")
-    write_table(table, rows)
-    fit = fit_eq10([r["rho_m"] for r in rows], [r["sigma_eff_over_sigma_pm"] for r in rows])
-    betas = {"%.4f" % rho: rs[0]["beta"] for rho, rs in group_by_rho(rows).items()}
-    write_json(os.path.join(study.out, "fit.json"),
-               {"eq10": fit, "beta_by_rho_m": betas, "complete_runs": len(rows),
-                "missing_runs": [m[0] for m in missing]})
-    curves = {r["id"]: read_curve(os.path.join(study.run_dir(r), "curve.csv"))
-              for r in study_plots.damage_curve_picks(rows)}
-    study_plots.draw_all(rows, fit, curves, study.spec["phases"],
-                         os.path.join(study.out, "figures"))
+    write_table(table, rows, STUDY_COLUMNS + (convergence_table.RUN_AXIS_COLUMNS if axes else ()))
+    # The paper's figures and eq. 10: of one lattice if the study has several.
+    reference = convergence_table.reference_lattice(study) if axes else None
+    shown = [r for r in rows if reference is None or r["lattice"] == reference["tag"]]
+    fit = fit_eq10([r["rho_m"] for r in shown], [r["sigma_eff_over_sigma_pm"] for r in shown])
+    betas = {"%.4f" % rho: rs[0]["beta"] for rho, rs in group_by_rho(shown).items()}
+    record = {"eq10": fit, "beta_by_rho_m": betas, "complete_runs": len(rows),
+              "missing_runs": [m[0] for m in missing]}
+    if axes:
+        record["figures_lattice"] = reference["tag"] if reference else None
+    write_json(os.path.join(study.out, "fit.json"), record)
+    if shown:
+        curves = {r["id"]: read_curve(os.path.join(study.run_dir(r), "curve.csv"))
+                  for r in study_plots.damage_curve_picks(shown)}
+        study_plots.draw_all(shown, fit, curves, study.spec["phases"],
+                             os.path.join(study.out, "figures"))
     print("gather: %d runs -> %s, fit.json, figures/ (eq. 10: %s)"
           % (len(rows), table, "A = %.3f, k = %.2f" % (fit["A"], fit["k"]) if fit
              else "not fitted: needs two matrix fractions"))
+    if axes:
+        points = convergence_table.write_convergence(study, rows, samples)
+        print("gather: %d samples -> samples.csv; %d quantity x grid points -> "
+              "convergence.csv, convergence_levels.csv, convergence.md, "
+              "figures/convergence_*.png" % (len(samples), len(points)))
     return 1 if missing else 0
