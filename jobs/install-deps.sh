@@ -2,6 +2,11 @@
 # Install the Debian 12 packages this project needs, if any is missing.
 # Runs apt-get as root; as another user it prints the command to run.
 set -euo pipefail
+if ! command -v dpkg-query > /dev/null; then
+  echo "install-deps.sh: no dpkg: this script is for Debian 12; install PETSc, MPI," \
+       "parallel HDF5, CGAL and METIS yourself (docs/building.md)" >&2
+  exit 1
+fi
 packages=(build-essential cmake pkg-config git petsc-dev libmetis-dev libcgal-dev
           libhdf5-openmpi-dev openmpi-bin libgtest-dev python3-matplotlib python3-h5py
           python3-numpy python3-scipy python3-yaml python3-pytest)

@@ -3,8 +3,10 @@
 # mpirun path; jobs/slurm/submit-study.sh is the cluster path).  Rerunning
 # skips complete runs and resumes interrupted ones from their checkpoints.
 # Usage: jobs/study-local.sh STUDY.yaml OUT_DIR [--ranks N]
+# LEM_BIN=DIR: the lem_* programs of DIR (e.g. the bin/ of an install), and
+# nothing is built (docs/building.md).
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 [ $# -ge 2 ] || { echo "usage: study-local.sh STUDY.yaml OUT_DIR [--ranks N]" >&2; exit 1; }
-bash "$root/jobs/build.sh"
+[ -n "${LEM_BIN:-}" ] || bash "$root/jobs/build.sh"
 exec /usr/bin/python3 "$root/tools/study.py" all "$@"

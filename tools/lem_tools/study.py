@@ -176,7 +176,7 @@ class Study:
     def __init__(self, path, out, bin_dir=None):
         self.spec = load_study(path)
         self.out = out
-        self.bin = bin_dir or os.path.join(ROOT, "build")
+        self.bin = bin_dir or os.environ.get("LEM_BIN") or os.path.join(ROOT, "build")
         self.hash = study_hash(self.spec)
         self.lattices = lattices(self.spec)
         self.by_tag = {lattice["tag"]: lattice for lattice in self.lattices}
@@ -543,8 +543,8 @@ def main(argv=None):
     arg_parser.add_argument("--ranks", type=int, metavar="N",
                             help="MPI ranks per run (default: the study's `ranks`)")
     arg_parser.add_argument("--bin", metavar="DIR",
-                            help="folder of the lem_* programs (default: build/ of this "
-                                 "repository)")
+                            help="folder of the lem_* programs (default: $LEM_BIN, else "
+                                 "build/ of this repository)")
     return cli.run(arg_parser, do, argv)
 
 
