@@ -13,6 +13,7 @@
 #include "lem/line_fit.hpp"
 #include "lem/options.hpp"
 #include "lem/setup.hpp"
+#include "lem/summary.hpp"
 #include "lem/tension_output.hpp"
 
 #include <cmath>
@@ -58,15 +59,13 @@ int main(int argc, char** argv) {
     lem::check_option_names(comm);
     if (sample.lattice_type != lem::LatticeType::random)
       throw lem::InputError("lem_convergence needs -lattice_type random");
-    lem::prepare_output_dir(comm, dir, {"convergence.csv", "fit.csv"});
+    lem::prepare_output_dir(comm, dir, {"convergence.csv", "fit.csv", "summary.json"});
     const auto provenance = lem::collect_provenance(comm, "lem_convergence");
 
     std::ostringstream table;
-    table << "# E_eff/E^[m] against L_n (Affes et al. 2012, fig. 6); E^[m] in units of k/a.\n"
-          << "# " << sample.inclusions.volume_fraction << " volume fraction, radius "
-          << sample.inclusions.radius << ", stiff inclusions x" << sample.inclusion_stiffness_ratio
-          << "; git " << provenance.git_hash << "\n"
-          << "Ln,bonds,nodes,E_matrix,E_stiff_over_matrix,E_pore_over_matrix,its_matrix,"
+    // E_eff/E^[m] against L_n (paper fig. 6), E^[m] in units of k/a; the
+    // inclusions and the provenance are in summary.json.
+    table << "Ln,bonds,nodes,E_matrix,E_stiff_over_matrix,E_pore_over_matrix,its_matrix,"
              "its_stiff,its_pore\n";
     std::vector<double> ln, stiff, pore;
     bool first_solve = true;
@@ -104,7 +103,13 @@ int main(int argc, char** argv) {
     }
     int rank = 0;
     MPI_Comm_rank(comm, &rank);
+    lem::Summary summary;
+    summary.add("inclusion_volume_fraction", sample.inclusions.volume_fraction);
+    summary.add("inclusion_radius", sample.inclusions.radius, "smallest box side");
+    summary.add("inclusion_stiffness_ratio", sample.inclusion_stiffness_ratio);
+    summary.add_provenance(provenance);
     if (rank == 0) {
+      lem::write_text_file_atomically(dir + "/summary.json", summary.json());
       lem::write_text_file_atomically(dir + "/fit.csv", fit.str());
       lem::write_text_file_atomically(dir + "/convergence.csv", table.str());
     }

@@ -173,13 +173,13 @@ void refuse_if_strict(const std::string& dir, const lem::FractureOptions& option
 // belong to whoever put them there (a study's run.json and log) and stay
 // when -output_overwrite replaces the result.
 bool part_of_result(const std::string& name) {
-  static const std::set<std::string> names = {"curve.csv",      "broken.csv",  "summary.csv",
+  static const std::set<std::string> names = {"curve.csv",      "curve.json",  "broken.csv",  "summary.csv",
                                               "summary.json",   "calibration", "checkpoint.bin",
                                               "fracture.png",   "stress.png",  "stress.json"};
   const std::string ext = std::filesystem::path(name).extension().string();
   return names.count(name) > 0 || ext == ".part" || ext == ".tmp" ||
-         name.rfind("fields.", 0) == 0 || name.rfind("elastic.", 0) == 0 ||
-         name.rfind("snapshot_", 0) == 0;
+         name.rfind("fields", 0) == 0 || name.rfind("elastic", 0) == 0 ||
+         name.rfind("snapshot", 0) == 0;
 }
 
 // Whether the staging folder of -output_overwrite (<dir>.overwrite) is one
@@ -268,6 +268,7 @@ lem::Calibration calibrate(MPI_Comm comm, const lem::SampleOptions& sample,
   lem::prepare_output_dir(comm, hom_options.output_dir,
                           resumable(comm, hom_options) ? std::vector<std::string>{}
                                                        : std::vector<std::string>{"curve.csv",
+                                                                                  "curve.json",
                                                                                   "broken.csv"});
   lem::say("calibration: the homogeneous lattice (every bond E^p = %g, sigma^p = %g)\n",
            sample.phases.modulus[0], sample.phases.strength[0]);
@@ -446,7 +447,7 @@ int main(int argc, char** argv) {
     std::vector<std::string> stale = {"summary.json", "summary.csv", "fields.h5", "fields.xmf",
                                       "fracture.png", "stress.png", "stress.json"};
     if (!resumable(comm, options))
-      stale.insert(stale.end(), {"curve.csv", "broken.csv", "elastic.h5", "elastic.xmf"});
+      stale.insert(stale.end(), {"curve.csv", "curve.json", "broken.csv", "elastic.h5", "elastic.xmf"});
     lem::run_on_root(comm, [&] { lem::withdraw_results(work, stale); });
 
     const double e_p = sample.phases.modulus[0], s_p = sample.phases.strength[0];
@@ -541,6 +542,7 @@ int main(int argc, char** argv) {
     // Commit: every file in place and synced, then the manifest, then the
     // checkpoint goes (docs/fracture.md, "Results"); then a staged result
     // takes the old one's place.
+    s.add_provenance(provenance);
     lem::run_on_root(comm, [&] {
       lem::write_text_file_atomically(work + "/summary.csv", s.csv());
       lem::write_text_file_atomically(work + "/summary.json", s.json());
@@ -549,9 +551,11 @@ int main(int argc, char** argv) {
       for (const auto& entry : std::filesystem::directory_iterator(work)) {
         const std::string name = entry.path().filename().string();
         const std::string ext = entry.path().extension().string();
-        if ((name.rfind("snapshot_", 0) == 0 || name.rfind("elastic.", 0) == 0 ||
-             name.rfind("fields.", 0) == 0) &&
-            (ext == ".h5" || ext == ".xmf"))
+        // (curve.json is missing only in a run resumed from an older version's checkpoint.)
+        if (((name.rfind("snapshot", 0) == 0 || name.rfind("elastic", 0) == 0 ||
+              name.rfind("fields", 0) == 0) &&
+             (ext == ".h5" || ext == ".xmf")) ||
+            name == "curve.json")
           files.push_back(name);
       }
       std::sort(files.begin() + 4, files.end());

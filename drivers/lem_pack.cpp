@@ -14,6 +14,7 @@
 #include "lem/options.hpp"
 #include "lem/packing.hpp"
 #include "lem/sample_options.hpp"
+#include "lem/summary.hpp"
 
 #include <cstdio>
 #include <string>
@@ -24,40 +25,8 @@ static const char help[] =
 
 namespace {
 
-std::string format(const char* fmt, double a) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, fmt, a);
-  return buffer;
-}
-
-std::string spheres_csv(const lem::CubeSample& cube, const lem::Packing& packing,
-                        const lem::PackingSpec& spec, const lem::Provenance& prov,
-                        const std::string& what) {
-  std::string options = prov.options;
-  for (char& c : options)
-    if (c == '\n') c = ' ';
-  std::string text;
-  text += "# lem_pack " + what + ": sphere centres and radii (lengths in the units of d_min)\n";
-  text += "# version " + prov.version + ", git " + prov.git_hash + ", started " +
-          prov.start_time + ", options: " + options + "\n";
-  text += "# seed " + std::to_string(spec.seed) + ", d_min " + format("%.17g", spec.d_min) +
-          ", d_max " + format("%.17g", spec.d_max) + ", distribution " +
-          (spec.distribution == lem::SizeDistribution::uniform_volume ? "uniform_volume"
-                                                                       : "uniform_diameter") +
-          "\n";
-  text += "# periodic box side " + format("%.17g", packing.box_side) + ", " +
-          std::to_string(packing.spheres.size()) + " spheres, volume fraction " +
-          format("%.6f", packing.stats.volume_fraction) + "\n";
-  text += "# cube [0, " + format("%.17g", cube.side) + "]^3: " +
-          std::to_string(cube.spheres.size()) + " spheres, the first " +
-          std::to_string(cube.centres_inside) + " with centres inside" +
-          (cube.spheres.size() > static_cast<std::size_t>(cube.centres_inside)
-               ? " (the others reach in from outside)"
-               : "") +
-          "; volume fraction " + format("%.6f", cube.volume_fraction) +
-          " (counting every sphere reaching in " + format("%.6f", cube.region_volume_fraction) +
-          ")\n";
-  text += "x,y,z,radius\n";
+std::string spheres_csv(const lem::CubeSample& cube) {
+  std::string text = "x,y,z,radius\n";
   char line[128];
   for (const auto& s : cube.spheres) {
     std::snprintf(line, sizeof line, "%.17g,%.17g,%.17g,%.17g\n", s.centre[0], s.centre[1],
@@ -65,6 +34,33 @@ std::string spheres_csv(const lem::CubeSample& cube, const lem::Packing& packing
     text += line;
   }
   return text;
+}
+
+// The sidecar of a spheres table (<name>.json): what it holds and how it was made.
+std::string spheres_json(const lem::CubeSample& cube, const lem::Packing& packing,
+                         const lem::PackingSpec& spec, const lem::Provenance& prov,
+                         const std::string& what, const std::string& file) {
+  lem::Summary s;
+  s.add("file", file);
+  s.add("description", "lem_pack " + what + ": sphere centres x, y, z and radii, lengths in "
+                       "the units of d_min");
+  s.add("seed", static_cast<long long>(spec.seed));
+  s.add("d_min", spec.d_min);
+  s.add("d_max", spec.d_max);
+  s.add("distribution", std::string(spec.distribution == lem::SizeDistribution::uniform_volume
+                                        ? "uniform_volume" : "uniform_diameter"));
+  s.add("box_side", packing.box_side, "d_min");
+  s.add("box_spheres", static_cast<long long>(packing.spheres.size()));
+  s.add("box_volume_fraction", packing.stats.volume_fraction);
+  s.add("cube_side", cube.side, "d_min");
+  s.add("spheres", static_cast<long long>(cube.spheres.size()));
+  // The first centres_inside rows have their centres in the cube; the
+  // others reach in from outside.
+  s.add("centres_inside", static_cast<long long>(cube.centres_inside));
+  s.add("volume_fraction", cube.volume_fraction);
+  s.add("region_volume_fraction", cube.region_volume_fraction);
+  s.add_provenance(prov);
+  return s.json();
 }
 
 }  // namespace
@@ -96,7 +92,8 @@ int main(int argc, char** argv) {
       throw lem::InputError("option -pack_sample_particles = " + std::to_string(sample) +
                             " is out of range: allowed 1 to -pack_particles = " +
                             std::to_string(spec.count));
-    lem::prepare_output_dir(comm, dir, {"packing.csv", "packing_box.csv"});
+    lem::prepare_output_dir(comm, dir,
+                            {"packing.csv", "packing_box.csv", "packing.json", "packing_box.json"});
     const auto provenance = lem::collect_provenance(comm, "lem_pack");
 
     lem::run_on_root(comm, [&] {
@@ -127,16 +124,20 @@ int main(int argc, char** argv) {
                "sphere reaching in %.6f)\n",
                cube.side, (long long)cube.centres_inside, cube.spheres.size(),
                cube.volume_fraction, cube.region_volume_fraction);
-      lem::write_text_file_atomically(dir + "/packing.csv",
-                                      spheres_csv(cube, packing, spec, provenance, "cubic sample"));
+      lem::write_text_file_atomically(dir + "/packing.csv", spheres_csv(cube));
+      lem::write_text_file_atomically(
+          dir + "/packing.json",
+          spheres_json(cube, packing, spec, provenance, "cubic sample", "packing.csv"));
       if (write_box) {
         lem::CubeSample whole;
         whole.side = packing.box_side;
         whole.spheres = packing.spheres;
         whole.centres_inside = static_cast<std::int64_t>(whole.spheres.size());
         whole.volume_fraction = whole.region_volume_fraction = st.volume_fraction;
-        lem::write_text_file_atomically(dir + "/packing_box.csv",
-                                        spheres_csv(whole, packing, spec, provenance, "periodic box"));
+        lem::write_text_file_atomically(dir + "/packing_box.csv", spheres_csv(whole));
+        lem::write_text_file_atomically(
+            dir + "/packing_box.json",
+            spheres_json(whole, packing, spec, provenance, "periodic box", "packing_box.csv"));
       }
     });
     lem::say("results in %s/\n", dir.c_str());

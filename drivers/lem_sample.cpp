@@ -119,12 +119,14 @@ int main(int argc, char** argv) {
       report(sample.stats, spec);
     });
     // Only once the sample is made: a failure keeps older results.
-    lem::prepare_output_dir(comm, dir, {stem + ".h5", stem + ".xmf", summary_stem + ".json",
+    lem::prepare_output_dir(comm, dir, {stem + ".h5", stem + ".xmf", stem + "_nodes.xmf",
+                                        stem + "_particles.xmf", summary_stem + ".json",
                                         summary_stem + ".csv"});
     lem::run_on_root(comm, [&] {
       const std::string path = dir + "/" + stem;
       lem::write_sample(path, sample, spec, provenance);
-      const lem::Summary summary = sample_summary(sample.stats, spec, path + ".h5");
+      lem::Summary summary = sample_summary(sample.stats, spec, path + ".h5");
+      summary.add_provenance(provenance);
       lem::write_text_file_atomically(dir + "/" + summary_stem + ".csv", summary.csv());
       lem::write_text_file_atomically(dir + "/" + summary_stem + ".json", summary.json());
     });

@@ -124,10 +124,9 @@ int main(int argc, char** argv) {
 
     std::ostringstream csv;
     csv.precision(8);
-    csv << "# E_eff/E^[p] against rho^m (Affes et al. 2012, figs. 5, 11; appendix D)\n"
-        << "# E^[p] = " << Ep << ", E^[m] = " << Em << ", lattice nu = " << unit.poisson
-        << " (homogeneous lattice); git " << provenance.git_hash << "\n"
-        << "rho_m_requested,rho_m,rho_p,rho_v,rho_pp,S_pm,bridges_per_particle,"
+    // E_eff/E^[p] against rho^m (paper figs. 5, 11; appendix D); E^[p],
+    // E^[m] and the lattice nu are in summary.json.
+    csv << "rho_m_requested,rho_m,rho_p,rho_v,rho_pp,S_pm,bridges_per_particle,"
            "eligible_per_particle,bonds_p,bonds_m,bonds_v,bonds_pp,bonds_pm,"
            "E_bare,E_adhesive,HS_bare,HS_adhesive,nu_bare,nu_adhesive,its_bare,its_adhesive\n";
     std::vector<double> rho, bare, adhesive, coverage;
@@ -186,6 +185,7 @@ int main(int argc, char** argv) {
       summary.add("coverage_slope", fs.slope);
       summary.add("bare_over_Em_at_highest", bare.back() * Ep / Em);
       summary.add("adhesive_over_Em_at_highest", adhesive.back() * Ep / Em);
+      summary.add_provenance(provenance);
       lem::write_text_file_atomically(dir + "/fits.csv",
                                       "quantity,intercept,slope,max_residual\n" +
                                           fit_row("E_bare_over_Ep", fb) +

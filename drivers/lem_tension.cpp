@@ -89,6 +89,7 @@ int main(int argc, char** argv) {
     int rank = 0;
     MPI_Comm_rank(comm, &rank);
     if (rank == 0) {
+      summary.add_provenance(provenance);
       lem::write_text_file_atomically(dir + "/summary.csv", summary.csv());
       lem::write_text_file_atomically(dir + "/summary.json", summary.json());
     }

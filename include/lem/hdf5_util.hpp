@@ -72,12 +72,15 @@ struct XdmfArray {
   int precision = 8;                  // bytes per value
 };
 
-/// An XDMF 3 document over one HDF5 file: grids of points (Polyvertex) and
-/// of two-node polylines sharing a coordinates dataset.
+/// An XDMF 3 document over one HDF5 file holding one grid (meshio reads no
+/// more): points (Polyvertex) or two-node polylines.
 class XdmfText {
  public:
   explicit XdmfText(std::string h5_name);
-  void begin_points(const std::string& grid, std::int64_t points, const std::string& coordinates);
+  /// `vertices`: the dataset of the rows 0..points-1 (points x 1), the
+  /// connectivity without which readers show no cells.
+  void begin_points(const std::string& grid, std::int64_t points, const std::string& coordinates,
+                    const std::string& vertices);
   /// Polylines whose ends are rows of `coordinates` (`points` rows).
   void begin_polylines(const std::string& grid, std::int64_t lines,
                        const std::string& connectivity, std::int64_t points,
@@ -87,6 +90,8 @@ class XdmfText {
   void end_grid();
   /// The whole document (closes the domain).
   std::string text() const;
+  /// The row numbers first .. first+n-1, for (a slice of) a `vertices` dataset.
+  static std::vector<std::int64_t> vertex_rows(std::int64_t first, std::int64_t n);
 
  private:
   void data_item(std::int64_t rows, int columns, const char* number_type, int precision,

@@ -26,6 +26,8 @@ struct Field {
   std::string name;
   int components = 1;
   std::vector<double> values;  // size = local item count * components
+  /// Whole numbers (phases, flags, counts): stored as 32-bit integers.
+  bool integer = false;
 };
 
 /// Nodes owned by this rank (a contiguous block of the global numbering).
@@ -44,12 +46,26 @@ struct BondSlice {
   std::vector<Field> fields;      // e.g. "force", "stiffness"
 };
 
-/// Write <stem>.h5 and <stem>.xmf collectively.  Layout:
-///   /nodes/coordinates (N x 3), /nodes/id (N), /nodes/<field> (N or N x 3)
+/// Write <stem>.h5 and, beside it, two XDMF files of one grid each (what
+/// meshio and ParaView's XDMF3 reader take): <stem>.xmf, the bonds as
+/// two-node polylines carrying the node and the bond fields, and
+/// <stem>_nodes.xmf, the nodes as vertices.  Collective.  Layout:
+///   /nodes/coordinates (N x 3), /nodes/id (N), /nodes/vertices (N x 1, the
+///   rows 0..N-1: the vertex connectivity), /nodes/<field> (N, N x 3, N x 6)
 ///   /bonds/connectivity (M x 2, int64), /bonds/id (M), /bonds/<field>
 ///   root attributes: provenance strings, plus `scalars` as double attributes.
+/// Integer fields are int32; large datasets are chunked and compressed.
 void write_lattice_fields(MPI_Comm comm, const std::string& stem, const NodeSlice& nodes,
                           const BondSlice& bonds, const Provenance& provenance,
                           const std::vector<std::pair<std::string, double>>& scalars);
+
+/// Rank 0: `path`, an XDMF temporal collection of the grids of `grid_files`
+/// (<stem>.xmf files of write_lattice_fields in the folder of `path`), in
+/// the order given, each at the time held by the root attribute
+/// `time_attribute` of its <stem>.h5 (a scalar).  ParaView plays it; meshio
+/// reads it with its TimeSeriesReader.  (The single files carry no time:
+/// meshio.read refuses a grid with one.)
+void write_xdmf_series(const std::string& path, const std::vector<std::string>& grid_files,
+                       const std::string& time_attribute);
 
 }  // namespace lem

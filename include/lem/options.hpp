@@ -135,7 +135,8 @@ enum class SolverStage {
 void check_unused_options(SolverStage stage = SolverStage::solved);
 
 /// The options as "-name value" text for the provenance: the database
-/// followed by the solver defaults (petsc_default) that no option overrides.
+/// followed by every registered option that was not given, at its default
+/// (the solver defaults of petsc_default included; "" for an empty text).
 std::string options_as_text();
 
 }  // namespace lem

@@ -16,6 +16,12 @@ struct Provenance {
   int ranks = 1;
 };
 
+/// "<program> (lem3d) <version>, git <hash>" and the PETSc version it was
+/// built with, one per line: what -version prints.
+std::string version_text(const std::string& program);
+/// -version (or --version) among the arguments.
+bool version_requested(int argc, char** argv);
+
 /// Collective: rank 0's clock and options database, on every rank.
 Provenance collect_provenance(MPI_Comm comm, const std::string& program);
 

@@ -15,8 +15,12 @@
 //   lattice_*, matrix_*), void_bonds ("any_end" or "both_ends": the rule
 //   that made /bonds/phase; absent in older files, which used any_end) and
 //   the provenance.
-// <stem>.xmf: grid "nodes" (phase, particle, volume), grid "bonds" (phase),
-//   grid "particles" (radius), for ParaView.
+//   /nodes/vertices, /particles/vertices (int64 rows 0..N-1: the vertex
+//   connectivity of the XDMF point grids; absent in older files)
+// <stem>.xmf: the bonds (phase, stiffness) with the node fields (phase,
+//   particle, volume); <stem>_nodes.xmf: the nodes as vertices;
+//   <stem>_particles.xmf: the particles (radius) as vertices.  One grid per
+//   file, for ParaView and meshio.
 #pragma once
 
 #include "lem/cemented_sample.hpp"
@@ -29,7 +33,7 @@ namespace lem {
 inline constexpr const char* kSampleFormat = "lem-cemented-sample";
 inline constexpr int kSampleFormatVersion = 1;
 
-/// Write <stem>.h5 and <stem>.xmf, each under a temporary name renamed into
+/// Write <stem>.h5 and the three .xmf files, each under a temporary name renamed into
 /// place when complete.  Serial: call on one rank.  Throws InputError if the
 /// files cannot be written.
 void write_sample(const std::string& stem, const CementedSample& sample,

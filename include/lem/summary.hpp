@@ -1,7 +1,11 @@
 // An ordered record of named results, written as JSON and as a one-row CSV
 // with units in the header.  A list of words is a JSON array and one CSV cell
-// with the words separated by ';'.
+// with the words separated by ';'.  CSV cells are never quoted: commas,
+// quotes and line breaks inside text become blanks (the JSON keeps them), so
+// that every CSV reader, numpy's included, splits the row the same way.
 #pragma once
+
+#include "lem/provenance.hpp"
 
 #include <string>
 #include <variant>
@@ -14,6 +18,10 @@ class Summary {
   using Value = std::variant<double, long long, std::string, std::vector<std::string>>;
   /// `unit` goes into the CSV header as name[unit]; empty for plain numbers.
   void add(const std::string& name, Value value, const std::string& unit = "");
+  /// Where the result came from: program, version, git hash, start time,
+  /// rank count (unless an entry mpi_ranks exists) and the effective
+  /// options, one "-name value" per list word.
+  void add_provenance(const Provenance& provenance);
   std::string json() const;
   std::string csv() const;
   /// The numeric entries (for HDF5 attributes).

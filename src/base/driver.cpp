@@ -2,17 +2,30 @@
 
 #include "lem/error.hpp"
 #include "lem/options.hpp"
+#include "lem/provenance.hpp"
 #include "lem/stop.hpp"
 
 #include <petscsys.h>
 
 #include <cstdio>
+#include <filesystem>
 #include <string>
 
 namespace lem {
 
 int run_driver(int argc, char** argv, const char* help,
                const std::function<void(MPI_Comm)>& body, StopHandling stops) {
+  // -version answers and runs nothing (PETSc's own -version would print
+  // only PETSc's and go on with the job).
+  if (version_requested(argc, argv)) {
+    MPI_Init(&argc, &argv);
+    int rank = 0;
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+    if (rank == 0)
+      std::printf("%s", version_text(std::filesystem::path(argv[0]).filename().string()).c_str());
+    MPI_Finalize();
+    return 0;
+  }
   const bool handle_stops = stops == StopHandling::save_and_exit;
   if (handle_stops) install_stop_handler();  // MPI start-up can take a while
   // PETSc cannot start on a missing options file: say which, once.

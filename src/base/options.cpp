@@ -527,13 +527,14 @@ std::string options_as_text() {
   std::string text = all ? all : "";
   LEM_PETSC(PetscFree(all));
   const std::vector<std::string> present = option_names();
+  // Then every option read but not given, at its default (ours and the
+  // solver's), so that the record alone reproduces the run.
   for (const auto& r : registry()) {
-    if (!r.petsc_default) continue;
     // Not given, and not put into the database by the program either.
     const bool in_database = std::any_of(present.begin(), present.end(), [&](const std::string& n) {
       return lower(n) == lower(r.name);
     });
-    if (!in_database) text += " " + r.name + " " + r.default_value;
+    if (!in_database) text += " " + r.name + " " + (r.default_value.empty() ? "\"\"" : r.default_value);
   }
   return text;
 }

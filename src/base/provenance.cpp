@@ -12,7 +12,11 @@
 #include <ctime>
 #include <sstream>
 
-// Only this file sees the version, so a new commit rebuilds one file.
+// Only this file sees the version and the hash (made at build time by
+// cmake/git_hash.cmake), so a new commit rebuilds one file.
+#if __has_include("lem_git_hash.h")
+#include "lem_git_hash.h"
+#endif
 #ifndef LEM_VERSION
 #define LEM_VERSION "unknown"
 #endif
@@ -53,6 +57,22 @@ std::string options_one_per_line(const std::string& all) {
 }
 
 }  // namespace
+
+std::string version_text(const std::string& program) {
+  std::ostringstream out;
+  out << program << " (lem3d) " << LEM_VERSION << ", git " << LEM_GIT_HASH << "\n"
+      << "PETSc " << PETSC_VERSION_MAJOR << "." << PETSC_VERSION_MINOR << "."
+      << PETSC_VERSION_SUBMINOR << (PETSC_VERSION_RELEASE ? "" : " (development)") << "\n";
+  return out.str();
+}
+
+bool version_requested(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string word = argv[i];
+    if (word == "-version" || word == "--version") return true;
+  }
+  return false;
+}
 
 Provenance collect_provenance(MPI_Comm comm, const std::string& program) {
   Provenance p;

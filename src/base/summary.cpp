@@ -1,5 +1,6 @@
 #include "lem/summary.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -27,6 +28,13 @@ std::string quoted(const std::string& s) {
   return out + "\"";
 }
 
+// A CSV cell that needs no quoting (see summary.hpp).
+std::string plain_cell(std::string s) {
+  for (char& c : s)
+    if (c == ',' || c == '"' || c == '\n' || c == '\r') c = ' ';
+  return s;
+}
+
 std::string text(const Summary::Value& v, bool json) {
   if (const auto* d = std::get_if<double>(&v)) return number(*d);
   if (const auto* i = std::get_if<long long>(&v)) return std::to_string(*i);
@@ -36,17 +44,31 @@ std::string text(const Summary::Value& v, bool json) {
       if (k > 0) out += json ? ", " : ";";
       out += json ? quoted((*list)[k]) : (*list)[k];
     }
-    if (json) return out + "]";
-    return out.find_first_of(",\"\n") == std::string::npos ? out : quoted(out);
+    return json ? out + "]" : plain_cell(out);
   }
   const auto& s = std::get<std::string>(v);
-  return json ? quoted(s) : (s.find_first_of(",\"\n") == std::string::npos ? s : quoted(s));
+  return json ? quoted(s) : plain_cell(s);
 }
 
 }  // namespace
 
 void Summary::add(const std::string& name, Value value, const std::string& unit) {
   entries_.push_back({name, unit, std::move(value)});
+}
+
+void Summary::add_provenance(const Provenance& p) {
+  add("program", p.program);
+  add("version", p.version);
+  add("git_hash", p.git_hash);
+  add("start_time", p.start_time);
+  const bool has_ranks = std::any_of(entries_.begin(), entries_.end(),
+                                     [](const Entry& e) { return e.name == "mpi_ranks"; });
+  if (!has_ranks) add("mpi_ranks", static_cast<long long>(p.ranks));
+  std::vector<std::string> options;
+  std::istringstream lines(p.options);
+  for (std::string line; std::getline(lines, line);)
+    if (!line.empty()) options.push_back(line);
+  add("options", options);
 }
 
 std::string Summary::json() const {

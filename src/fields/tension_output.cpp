@@ -13,7 +13,7 @@ std::optional<SymTensor> write_tension_fields(const std::string& stem, const Dis
   Field displacement{"displacement", 3, {}};
   for (const auto& d : system.owned_displacements())
     displacement.values.insert(displacement.values.end(), d.begin(), d.end());
-  Field flags{"dof_flags", 1, {}};
+  Field flags{"dof_flags", 1, {}, true};
   for (int n = 0; n < lattice.owned; ++n) flags.values.push_back(lattice.dof_flags[n]);
   nodes.fields = {displacement, flags};
   const auto tension = system.bond_tensions();
@@ -34,7 +34,7 @@ std::optional<SymTensor> write_tension_fields(const std::string& stem, const Dis
   }
 
   BondSlice bonds;
-  Field force{"force", 1, {}}, stiffness{"stiffness", 1, {}}, phase{"phase", 1, {}};
+  Field force{"force", 1, {}}, stiffness{"stiffness", 1, {}}, phase{"phase", 1, {}, true};
   for (int b = 0; b < lattice.local_bonds(); ++b) {
     if (!lattice.bond_reported[b]) continue;
     const auto [p, q] = lattice.bond_ends[b];

@@ -8,14 +8,17 @@
 #include <hdf5.h>
 #include <petscsys.h>
 
+#include <algorithm>
 #include <cctype>
 #include <chrono>
+#include <cstdio>
 #include <climits>
 #include <ctime>
 #include <exception>
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <iterator>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -103,20 +106,21 @@ void collective_step(MPI_Comm comm, const std::string& what, const std::function
 struct FieldInfo {
   std::string name;
   int components = 1;
+  bool integer = false;
 };
 
 std::vector<FieldInfo> field_infos(const std::vector<Field>& fields) {
   std::vector<FieldInfo> infos;
   infos.reserve(fields.size());
-  for (const Field& f : fields) infos.push_back({f.name, f.components});
+  for (const Field& f : fields) infos.push_back({f.name, f.components, f.integer});
   return infos;
 }
 
 /// Serialised field layout, compared between ranks.
 std::string schema_text(const std::vector<FieldInfo>& nodes, const std::vector<FieldInfo>& bonds) {
   std::ostringstream out;
-  for (const auto& f : nodes) out << "node " << f.components << ' ' << f.name << '\n';
-  for (const auto& f : bonds) out << "bond " << f.components << ' ' << f.name << '\n';
+  for (const auto& f : nodes) out << "node " << f.components << f.integer << ' ' << f.name << '\n';
+  for (const auto& f : bonds) out << "bond " << f.components << f.integer << ' ' << f.name << '\n';
   return out.str();
 }
 
@@ -163,6 +167,24 @@ struct Slab {
   hsize_t columns = 0;
 };
 
+// Datasets of at least this many values are compressed: below it the
+// chunk index costs more than deflate saves.
+constexpr hsize_t kCompressFrom = 4096;
+constexpr hsize_t kChunkRows = 65536;
+constexpr unsigned kDeflateLevel = 4;  // most of level 9's gain at a fraction of its time
+
+bool deflate_available() {
+  unsigned config = 0;
+  return H5Zfilter_avail(H5Z_FILTER_DEFLATE) > 0 &&
+         H5Zget_filter_info(H5Z_FILTER_DEFLATE, &config) >= 0 &&
+         (config & H5Z_FILTER_CONFIG_ENCODE_ENABLED) != 0;
+}
+
+bool compressed(const Slab& slab) {
+  static const bool available = deflate_available();
+  return available && slab.global_rows * std::max<hsize_t>(slab.columns, 1) >= kCompressFrom;
+}
+
 /// Collective: create `group/name` and write this rank's rows into it.
 void write_dataset(MPI_Comm comm, hid_t group, const std::string& path, const std::string& name,
                    hid_t file_type, hid_t memory_type, const Slab& slab, const void* data,
@@ -181,6 +203,16 @@ void write_dataset(MPI_Comm comm, hid_t group, const std::string& path, const st
     if (!create_plist.valid()) return false;
     // Every element is written below, so fill values would be wasted I/O.
     if (H5Pset_fill_time(create_plist.get(), H5D_FILL_TIME_NEVER) < 0) return false;
+    if (compressed(slab)) {
+      // Parallel HDF5 (1.10.2 on) writes filtered datasets collectively;
+      // byte shuffling first makes integers and smooth doubles shrink far more.
+      const hsize_t chunk[2] = {std::min<hsize_t>(slab.global_rows, kChunkRows),
+                                slab.columns == 0 ? 1 : slab.columns};
+      if (H5Pset_chunk(create_plist.get(), rank, chunk) < 0 ||
+          H5Pset_shuffle(create_plist.get()) < 0 ||
+          H5Pset_deflate(create_plist.get(), kDeflateLevel) < 0)
+        return false;
+    }
     dataset = Handle(H5Dcreate2(group, name.c_str(), file_type, file_space.get(), H5P_DEFAULT,
                                 create_plist.get(), H5P_DEFAULT),
                      H5Dclose);
@@ -270,23 +302,31 @@ void write_hdf5(MPI_Comm comm, const std::string& path, const NodeSlice& nodes,
                 path);
   write_dataset(comm, node_group.get(), "/nodes/id", "id", H5T_STD_I64LE, H5T_NATIVE_INT64,
                 node_rows, nodes.ids.data(), transfer.get(), path);
-  for (const Field& f : nodes.fields) {
-    write_dataset(comm, node_group.get(), "/nodes/" + f.name, f.name, H5T_IEEE_F64LE,
-                  H5T_NATIVE_DOUBLE,
-                  f.components == 1 ? node_rows : with_columns(node_rows, f.components),
-                  f.values.data(), transfer.get(), path);
-  }
+  const std::vector<std::int64_t> vertices =
+      h5::XdmfText::vertex_rows(layout.node_offset, static_cast<std::int64_t>(local_nodes));
+  write_dataset(comm, node_group.get(), "/nodes/vertices", "vertices", H5T_STD_I64LE,
+                H5T_NATIVE_INT64, with_columns(node_rows, 1), vertices.data(), transfer.get(),
+                path);
+  const auto write_field = [&](hid_t group, const char* group_name, const Field& f,
+                               const Slab& rows) {
+    const Slab slab = f.components == 1 ? rows : with_columns(rows, f.components);
+    const std::string dataset = std::string("/") + group_name + "/" + f.name;
+    if (!f.integer) {
+      write_dataset(comm, group, dataset, f.name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, slab,
+                    f.values.data(), transfer.get(), path);
+      return;
+    }
+    const std::vector<std::int32_t> whole(f.values.begin(), f.values.end());
+    write_dataset(comm, group, dataset, f.name, H5T_STD_I32LE, H5T_NATIVE_INT32, slab,
+                  whole.data(), transfer.get(), path);
+  };
+  for (const Field& f : nodes.fields) write_field(node_group.get(), "nodes", f, node_rows);
   write_dataset(comm, bond_group.get(), "/bonds/connectivity", "connectivity", H5T_STD_I64LE,
                 H5T_NATIVE_INT64, with_columns(bond_rows, 2), bonds.ends.data(), transfer.get(),
                 path);
   write_dataset(comm, bond_group.get(), "/bonds/id", "id", H5T_STD_I64LE, H5T_NATIVE_INT64,
                 bond_rows, bonds.ids.data(), transfer.get(), path);
-  for (const Field& f : bonds.fields) {
-    write_dataset(comm, bond_group.get(), "/bonds/" + f.name, f.name, H5T_IEEE_F64LE,
-                  H5T_NATIVE_DOUBLE,
-                  f.components == 1 ? bond_rows : with_columns(bond_rows, f.components),
-                  f.values.data(), transfer.get(), path);
-  }
+  for (const Field& f : bonds.fields) write_field(bond_group.get(), "bonds", f, bond_rows);
 
   // Root attributes (identical on every rank: the caller broadcast them).
   const hid_t root = file.get();
@@ -313,26 +353,33 @@ void write_hdf5(MPI_Comm comm, const std::string& path, const NodeSlice& nodes,
 // XDMF
 // ---------------------------------------------------------------------------
 
-// ---------------------------------------------------------------------------
-// XDMF
-// ---------------------------------------------------------------------------
+h5::XdmfArray xdmf_array(const std::string& group, const FieldInfo& f) {
+  return f.integer ? h5::XdmfArray{f.name, "/" + group + "/" + f.name, f.components, "Int", 4}
+                   : h5::XdmfArray{f.name, "/" + group + "/" + f.name, f.components, "Float", 8};
+}
 
-std::string xdmf_text(const std::string& h5_name, const GlobalLayout& layout,
-                      const std::vector<FieldInfo>& node_fields,
-                      const std::vector<FieldInfo>& bond_fields) {
-  const auto float_array = [](const std::string& group, const FieldInfo& f) {
-    return h5::XdmfArray{f.name, "/" + group + "/" + f.name, f.components, "Float", 8};
-  };
+/// <stem>.xmf: the bonds, with the node fields on their ends.
+std::string bonds_xdmf(const std::string& h5_name, const GlobalLayout& layout,
+                       const std::vector<FieldInfo>& node_fields,
+                       const std::vector<FieldInfo>& bond_fields) {
   h5::XdmfText x(h5_name);
-  x.begin_points("nodes", layout.nodes, "/nodes/coordinates");
-  x.attribute({"id", "/nodes/id", 1, "Int", 8}, "Node", layout.nodes);
-  for (const auto& f : node_fields) x.attribute(float_array("nodes", f), "Node", layout.nodes);
-  x.end_grid();
   x.begin_polylines("bonds", layout.bonds, "/bonds/connectivity", layout.nodes,
                     "/nodes/coordinates");
-  for (const auto& f : node_fields) x.attribute(float_array("nodes", f), "Node", layout.nodes);
+  x.attribute({"node_id", "/nodes/id", 1, "Int", 8}, "Node", layout.nodes);
+  for (const auto& f : node_fields) x.attribute(xdmf_array("nodes", f), "Node", layout.nodes);
   x.attribute({"id", "/bonds/id", 1, "Int", 8}, "Cell", layout.bonds);
-  for (const auto& f : bond_fields) x.attribute(float_array("bonds", f), "Cell", layout.bonds);
+  for (const auto& f : bond_fields) x.attribute(xdmf_array("bonds", f), "Cell", layout.bonds);
+  x.end_grid();
+  return x.text();
+}
+
+/// <stem>_nodes.xmf: the nodes as vertices.
+std::string nodes_xdmf(const std::string& h5_name, const GlobalLayout& layout,
+                       const std::vector<FieldInfo>& node_fields) {
+  h5::XdmfText x(h5_name);
+  x.begin_points("nodes", layout.nodes, "/nodes/coordinates", "/nodes/vertices");
+  x.attribute({"id", "/nodes/id", 1, "Int", 8}, "Node", layout.nodes);
+  for (const auto& f : node_fields) x.attribute(xdmf_array("nodes", f), "Node", layout.nodes);
   x.end_grid();
   return x.text();
 }
@@ -447,11 +494,23 @@ void XdmfText::geometry(std::int64_t points, const std::string& coordinates) {
 }
 
 void XdmfText::begin_points(const std::string& grid, std::int64_t points,
-                            const std::string& coordinates) {
+                            const std::string& coordinates, const std::string& vertices) {
   out_ << "    <Grid Name=\"" << xml_escape(grid) << "\" GridType=\"Uniform\">\n"
        << "      <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << points
-       << "\" NodesPerElement=\"1\"/>\n";
+       << "\" NodesPerElement=\"1\">\n";
+  // N x 1, as a table of one-node cells (meshio's shape for vertices).
+  const std::string dims = std::to_string(points) + " 1";
+  out_ << "        <DataItem Dimensions=\"" << dims << "\" NumberType=\"Int\" Precision=\"8\" "
+       << "Format=\"HDF\">" << xml_escape(h5_name_) << ':' << xml_escape(vertices)
+       << "</DataItem>\n"
+       << "      </Topology>\n";
   geometry(points, coordinates);
+}
+
+std::vector<std::int64_t> XdmfText::vertex_rows(std::int64_t first, std::int64_t n) {
+  std::vector<std::int64_t> rows(static_cast<std::size_t>(n));
+  for (std::int64_t i = 0; i < n; ++i) rows[static_cast<std::size_t>(i)] = first + i;
+  return rows;
 }
 
 void XdmfText::begin_polylines(const std::string& grid, std::int64_t lines,
@@ -504,7 +563,7 @@ void write_lattice_fields(MPI_Comm comm, const std::string& stem, const NodeSlic
               "write_lattice_fields: rank " + std::to_string(rank) + " has " +
                   std::to_string(local_bonds) + " bonds but " + std::to_string(bonds.ids.size()) +
                   " bond ids"));
-  check_fields(nodes.fields, local_nodes, "nodes", {"coordinates", "id"}, rank, error);
+  check_fields(nodes.fields, local_nodes, "nodes", {"coordinates", "id", "vertices"}, rank, error);
   check_fields(bonds.fields, local_bonds, "bonds", {"connectivity", "id"}, rank, error);
   raise_collectively(comm, error);
 
@@ -558,6 +617,7 @@ void write_lattice_fields(MPI_Comm comm, const std::string& stem, const NodeSlic
   const std::string h5_path = stem + ".h5";
   const std::string tmp_path = h5_path + ".tmp";
   const std::string xmf_path = stem + ".xmf";
+  const std::string nodes_xmf_path = stem + "_nodes.xmf";
   if (rank == 0) {
     const std::string why = probe_writable(tmp_path);
     if (!why.empty())
@@ -601,12 +661,55 @@ void write_lattice_fields(MPI_Comm comm, const std::string& stem, const NodeSlic
     try {
       move_into_place(tmp_path, h5_path);
       const std::string h5_name = fs::path(h5_path).filename().string();
-      write_text_file_atomically(xmf_path, xdmf_text(h5_name, layout, node_fields, bond_fields));
+      write_text_file_atomically(xmf_path,
+                                 bonds_xdmf(h5_name, layout, node_fields, bond_fields));
+      write_text_file_atomically(nodes_xmf_path, nodes_xdmf(h5_name, layout, node_fields));
     } catch (...) {
       error.first = std::current_exception();
     }
   }
   raise_collectively(comm, error);
+}
+
+void write_xdmf_series(const std::string& path, const std::vector<std::string>& grid_files,
+                       const std::string& time_attribute) {
+  std::ostringstream out;
+  out << "<?xml version=\"1.0\" ?>\n"
+      << "<Xdmf Version=\"3.0\">\n"
+      << "  <Domain>\n"
+      << "    <Grid Name=\"" << fs::path(path).stem().string()
+      << "\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+  for (const std::string& file : grid_files) {
+    std::ifstream in(file);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const auto from = text.find("    <Grid "), to = text.rfind("    </Grid>\n");
+    const auto opened = text.find('\n', from);
+    if (!in || from == std::string::npos || to == std::string::npos || to < opened)
+      throw IoError("cannot read the grid of '" + file + "' for '" + path + "'");
+    const std::string h5_path = fs::path(file).replace_extension(".h5").string();
+    double time = 0;
+    {
+      const Handle h5(H5Fopen(h5_path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+      const Handle attribute(h5.valid() ? H5Aopen(h5.get(), time_attribute.c_str(), H5P_DEFAULT)
+                                        : H5I_INVALID_HID,
+                             H5Aclose);
+      if (!attribute.valid() || H5Aread(attribute.get(), H5T_NATIVE_DOUBLE, &time) < 0)
+        throw IoError("cannot read the attribute '" + time_attribute + "' of '" + h5_path +
+                      "' for '" + path + "'");
+    }
+    // The grid, one level deeper, with its time after the opening line.
+    std::string grid = text.substr(from, opened + 1 - from);
+    char line[64];
+    std::snprintf(line, sizeof line, "      <Time Value=\"%.17g\"/>\n", time);
+    grid += line;
+    grid += text.substr(opened + 1, to + 12 - (opened + 1));
+    std::istringstream lines(grid);
+    for (std::string l; std::getline(lines, l);) out << "  " << l << '\n';
+  }
+  out << "    </Grid>\n"
+      << "  </Domain>\n"
+      << "</Xdmf>\n";
+  write_text_file_atomically(path, out.str());
 }
 
 }  // namespace lem

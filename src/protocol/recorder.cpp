@@ -7,6 +7,7 @@
 #include "lem/summary.hpp"
 #include "lem/tension_output.hpp"
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdarg>
 #include <cmath>
@@ -66,6 +67,70 @@ void FractureRecorder::Stream::close() {
     throw IoError("cannot close '" + part() + "': " + std::strerror(errno));
 }
 
+namespace {
+
+// The columns of curve.csv with their unit or normalisation (curve.json).
+struct CurveColumn {
+  const char *name, *meaning;
+};
+const CurveColumn kCurveColumns[] = {
+    {"step", "load step (count)"},
+    {"strain", "epsilon_zz (dimensionless)"},
+    {"displacement_over_a", "top displacement / mean bond length a"},
+    {"stress_before_norm", "sigma_zz before the step's ruptures / sigma_unit"},
+    {"stress_norm", "sigma_zz at equilibrium / sigma_unit"},
+    {"stress", "sigma_zz at equilibrium (E^phase units)"},
+    {"broken", "broken bonds so far (count)"},
+    {"broken_p", "broken particle bonds (count)"},
+    {"broken_m", "broken matrix bonds (count)"},
+    {"broken_pp", "broken particle-particle contacts (count)"},
+    {"broken_pm", "broken particle-matrix interface bonds (count)"},
+    {"n_b", "particle damage n_b: broken particle bonds / broken bonds"},
+    {"cycles", "relaxation cycles of the step (count)"},
+    {"loose_nodes", "pinned nodes: cut loose from the loaded pieces (count)"},
+    {"solves", "linear solves so far (count)"},
+    {"iterations", "Krylov iterations so far (count)"},
+    {"pc_builds", "preconditioner builds so far (count)"},
+    {"work", "external work (lattice units k a^2)"},
+    {"stored_energy", "elastic energy (lattice units k a^2)"},
+    {"released_energy", "energy released by ruptures (lattice units k a^2)"},
+    {"idle", "1 for an idle step (scaled, no solve), 0 for an evaluated one"},
+    {"elapsed_s", "wall time since the start (s)"},
+};
+
+// snapshot_<step>.xmf (the bonds grid), not snapshot_<step>_nodes.xmf.
+bool is_snapshot_grid(const std::string& name) {
+  const std::string prefix = "snapshot_", suffix = ".xmf";
+  if (name.size() < prefix.size() + 7 + suffix.size() || name.rfind(prefix, 0) != 0 ||
+      name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0)
+    return false;
+  return std::all_of(name.begin() + static_cast<std::ptrdiff_t>(prefix.size()),
+                     name.end() - static_cast<std::ptrdiff_t>(suffix.size()),
+                     [](char c) { return c >= '0' && c <= '9'; });
+}
+
+}  // namespace
+
+std::string FractureRecorder::curve_header() {
+  std::string header;
+  for (const CurveColumn& c : kCurveColumns) {
+    if (!header.empty()) header += ',';
+    header += c.name;
+  }
+  return header;
+}
+
+std::string FractureRecorder::curve_sidecar() const {
+  Summary s;
+  s.add("file", std::string("curve.csv"));
+  s.add("description", std::string("stress-strain curve of lem_fracture, one row per evaluated "
+                                   "load step"));
+  s.add("sigma_unit", options_.strength_unit, "E^phase");
+  for (const CurveColumn& c : kCurveColumns) s.add(c.name, std::string(c.meaning));
+  s.add_provenance(provenance_);
+  return s.json();
+}
+
 void FractureRecorder::open_new() {
   run_on_root(lattice_.comm, [&] {
     curve_.open("wb");
@@ -73,19 +138,15 @@ void FractureRecorder::open_new() {
     // Snapshots of an earlier run would mix with this run's.
     std::error_code ec;
     for (const auto& entry : std::filesystem::directory_iterator(options_.output_dir, ec))
-      if (entry.path().filename().string().rfind("snapshot_", 0) == 0)
+      if (entry.path().filename().string().rfind("snapshot", 0) == 0)  // snapshots.xmf too
         std::filesystem::remove(entry.path(), ec);
-    curve_.print("# stress-strain curve of lem_fracture; sigma columns normalised by "
-                 "sigma_unit = %.10g (E^phase units), raw stress in E^phase units, energies in "
-                 "lattice units (k a^2)\n"
-                 "step,strain,displacement_over_a,stress_before_norm,stress_norm,stress,"
-                 "broken,broken_p,broken_m,broken_pp,broken_pm,n_b,cycles,loose_nodes,"
-                 "solves,iterations,pc_builds,work,stored_energy,released_energy,idle,"
-                 "elapsed_s\n",
-                 options_.strength_unit);
+    // The header row comes first, so that any CSV reader takes the file as
+    // it is; units and the normalisation go to the sidecar curve.json.
+    curve_.print("%s\n", curve_header().c_str());
     broken_.print("step,cycle,strain,bond_id,phase,x,y,z,force,threshold\n");
     curve_.check();
     broken_.check();
+    write_text_file_atomically(options_.output_dir + "/curve.json", curve_sidecar());
   });
 }
 
@@ -185,6 +246,18 @@ void FractureRecorder::snapshot_if_due(std::int64_t step, std::int64_t previous_
   s.add("strain", r.strain_zz);
   s.add("stress_norm", r.stress_zz * options_.stress_unit / options_.strength_unit);
   write_tension_fields(options_.output_dir + stem, lattice_, system_, provenance_, s);
+  // Every snapshot of the run so far (those of a resumed run's first part
+  // too), as one series in time: the strain.
+  run_on_root(lattice_.comm, [&] {
+    std::vector<std::string> grids;
+    std::error_code ec;
+    for (const auto& entry : std::filesystem::directory_iterator(options_.output_dir, ec)) {
+      const std::string name = entry.path().filename().string();
+      if (is_snapshot_grid(name)) grids.push_back(entry.path().string());
+    }
+    std::sort(grids.begin(), grids.end());  // zero-padded steps: in time order
+    write_xdmf_series(options_.output_dir + "/snapshots.xmf", grids, "strain");
+  });
 }
 
 void FractureRecorder::elastic_fields(const TensionResponse& r) {

@@ -242,6 +242,9 @@ void write_hdf5(const std::string& path, const std::string& label, const Cemente
   std::vector<std::uint8_t> codes(n);
   for (std::size_t i = 0; i < n; ++i) codes[i] = node_phase_code(s.node_phases, i);
   w.dataset("/nodes/phase", codes.data(), n);
+  // The vertex connectivity of the XDMF node grid (readers show no cells without it).
+  const auto node_rows = h5::XdmfText::vertex_rows(0, static_cast<std::int64_t>(n));
+  w.dataset("/nodes/vertices", node_rows.data(), n, 1);
 
   w.group("bonds");
   std::vector<std::int64_t> ends(2 * m);
@@ -264,6 +267,8 @@ void write_hdf5(const std::string& path, const std::string& label, const Cemente
   w.group("particles");
   w.dataset("/particles/centres", centres.data(), p, 3);
   w.dataset("/particles/radii", radii.data(), p);
+  const auto particle_rows = h5::XdmfText::vertex_rows(0, static_cast<std::int64_t>(p));
+  w.dataset("/particles/vertices", particle_rows.data(), p, 1);
 
   const std::size_t nb = s.bridges.size();
   std::vector<std::int32_t> pairs(2 * nb);
@@ -293,25 +298,39 @@ void write_hdf5(const std::string& path, const std::string& label, const Cemente
   w.close();
 }
 
-std::string sample_xdmf(const std::string& h5_name, const CementedSample& s) {
+// One grid per XDMF file (meshio reads no more): <stem>.xmf the bonds with
+// the node data on their ends, <stem>_nodes.xmf the nodes, and
+// <stem>_particles.xmf the particles as vertices.
+struct SampleXdmf {
+  std::string bonds, nodes, particles;
+};
+
+SampleXdmf sample_xdmf(const std::string& h5_name, const CementedSample& s) {
   const auto n = static_cast<std::int64_t>(s.lattice.node_count());
   const auto m = static_cast<std::int64_t>(s.lattice.bond_count());
   const auto p = static_cast<std::int64_t>(s.particles.size());
-  const h5::XdmfArray node_phase{"phase", "/nodes/phase", 1, "UChar", 1};
-  const h5::XdmfArray particle{"particle", "/nodes/particle", 1, "Int", 4};
-  h5::XdmfText x(h5_name);
-  x.begin_points("nodes", n, "/nodes/coordinates");
-  x.attribute(node_phase, "Node", n);
-  x.attribute(particle, "Node", n);
-  x.attribute({"volume", "/nodes/volume", 1, "Float", 8}, "Node", n);
-  x.end_grid();
-  x.begin_polylines("bonds", m, "/bonds/connectivity", n, "/nodes/coordinates");
-  x.attribute({"phase", "/bonds/phase", 1, "UChar", 1}, "Cell", m);
-  x.end_grid();
-  x.begin_points("particles", p, "/particles/centres");
-  x.attribute({"radius", "/particles/radii", 1, "Float", 8}, "Node", p);
-  x.end_grid();
-  return x.text();
+  const h5::XdmfArray node_arrays[] = {{"phase", "/nodes/phase", 1, "UChar", 1},
+                                       {"particle", "/nodes/particle", 1, "Int", 4},
+                                       {"volume", "/nodes/volume", 1, "Float", 8}};
+  SampleXdmf out;
+  h5::XdmfText bonds(h5_name);
+  bonds.begin_polylines("bonds", m, "/bonds/connectivity", n, "/nodes/coordinates");
+  for (const auto& a : node_arrays) bonds.attribute(a, "Node", n);
+  bonds.attribute({"phase", "/bonds/phase", 1, "UChar", 1}, "Cell", m);
+  bonds.attribute({"stiffness", "/bonds/stiffness", 1, "Float", 8}, "Cell", m);
+  bonds.end_grid();
+  out.bonds = bonds.text();
+  h5::XdmfText nodes(h5_name);
+  nodes.begin_points("nodes", n, "/nodes/coordinates", "/nodes/vertices");
+  for (const auto& a : node_arrays) nodes.attribute(a, "Node", n);
+  nodes.end_grid();
+  out.nodes = nodes.text();
+  h5::XdmfText particles(h5_name);
+  particles.begin_points("particles", p, "/particles/centres", "/particles/vertices");
+  particles.attribute({"radius", "/particles/radii", 1, "Float", 8}, "Node", p);
+  particles.end_grid();
+  out.particles = particles.text();
+  return out;
 }
 
 // ---------------------------------------------------------------------------
@@ -561,8 +580,10 @@ void write_sample(const std::string& stem, const CementedSample& sample,
     throw;
   }
   move_into_place(tmp_path, h5_path);
-  write_text_file_atomically(stem + ".xmf",
-                             sample_xdmf(fs::path(h5_path).filename().string(), sample));
+  const SampleXdmf xdmf = sample_xdmf(fs::path(h5_path).filename().string(), sample);
+  write_text_file_atomically(stem + ".xmf", xdmf.bonds);
+  write_text_file_atomically(stem + "_nodes.xmf", xdmf.nodes);
+  write_text_file_atomically(stem + "_particles.xmf", xdmf.particles);
 }
 
 SampleFile read_sample_file(const std::string& path) {

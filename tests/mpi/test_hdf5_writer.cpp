@@ -241,6 +241,9 @@ std::string read_text(const std::string& path) {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
+// What write_lattice_fields leaves in an empty folder (stem "lattice").
+const std::set<std::string> kWritten = {"lattice.h5", "lattice.xmf", "lattice_nodes.xmf"};
+
 std::set<std::string> directory_listing(const std::string& dir) {
   std::set<std::string> names;
   for (const auto& entry : fs::directory_iterator(dir)) names.insert(entry.path().filename().string());
@@ -363,7 +366,7 @@ TEST_F(Hdf5Writer, EveryValueShapeAndAttributeReadsBack) {
     check_h5(stem_ + ".h5", 1.0, provenance);
     EXPECT_FALSE(fs::exists(stem_ + ".h5.tmp"));
     EXPECT_FALSE(fs::exists(stem_ + ".xmf.tmp"));
-    EXPECT_EQ(directory_listing(dir_), (std::set<std::string>{"lattice.h5", "lattice.xmf"}));
+    EXPECT_EQ(directory_listing(dir_), (kWritten));
   }
 }
 
@@ -374,7 +377,7 @@ TEST_F(Hdf5Writer, OtherBondDistributionsReadBack) {
                                               make_bonds(2.0, count_of), provenance, kScalars));
     if (world_rank() == 0) {
       check_h5(stem_ + ".h5", 2.0, provenance, count_of);
-      EXPECT_EQ(directory_listing(dir_), (std::set<std::string>{"lattice.h5", "lattice.xmf"}));
+      EXPECT_EQ(directory_listing(dir_), (kWritten));
     }
   }
 }
@@ -387,7 +390,7 @@ TEST_F(Hdf5Writer, OverwritesAnEarlierResult) {
                                             make_bonds(-3.0), provenance, kScalars));
   if (world_rank() == 0) {
     check_h5(stem_ + ".h5", -3.0, provenance);
-    EXPECT_EQ(directory_listing(dir_), (std::set<std::string>{"lattice.h5", "lattice.xmf"}));
+    EXPECT_EQ(directory_listing(dir_), (kWritten));
   }
 }
 
@@ -397,36 +400,45 @@ TEST_F(Hdf5Writer, XdmfReferencesEveryDatasetWithItsShape) {
                                             make_bonds(1.0), provenance, kScalars));
   if (world_rank() != 0) return;
 
+  // One grid per file: the bonds in lattice.xmf, the nodes in lattice_nodes.xmf.
   const std::string xmf = read_text(stem_ + ".xmf");
+  const std::string nodes_xmf = read_text(stem_ + "_nodes.xmf");
   ASSERT_FALSE(xmf.empty()) << "missing " << stem_ << ".xmf";
-  EXPECT_NE(xmf.find("<Xdmf Version=\"3.0\">"), std::string::npos);
-  EXPECT_NE(xmf.find("<Grid Name=\"nodes\""), std::string::npos);
+  ASSERT_FALSE(nodes_xmf.empty()) << "missing " << stem_ << "_nodes.xmf";
+  for (const std::string* text : {&xmf, &nodes_xmf}) {
+    EXPECT_NE(text->find("<Xdmf Version=\"3.0\">"), std::string::npos);
+    EXPECT_EQ(text->find("<Grid "), text->rfind("<Grid ")) << "more than one grid";
+    EXPECT_EQ(text->find(dir_), std::string::npos) << "the .h5 must be referenced by file name only";
+  }
   EXPECT_NE(xmf.find("<Grid Name=\"bonds\""), std::string::npos);
-  EXPECT_NE(xmf.find("TopologyType=\"Polyvertex\""), std::string::npos);
   EXPECT_NE(xmf.find("TopologyType=\"Polyline\""), std::string::npos);
   EXPECT_NE(xmf.find("NodesPerElement=\"2\""), std::string::npos);
-  EXPECT_EQ(xmf.find(dir_), std::string::npos) << "the .h5 must be referenced by file name only";
+  EXPECT_NE(nodes_xmf.find("<Grid Name=\"nodes\""), std::string::npos);
+  EXPECT_NE(nodes_xmf.find("TopologyType=\"Polyvertex\""), std::string::npos);
 
   // Every dataset is referenced, as lattice.h5:<path>, with its true shape.
   const std::regex item(
-      R"re(<DataItem Dimensions="([0-9 ]+)" NumberType="(Float|Int)" Precision="8" Format="HDF">([^<:]+):([^<]+)</DataItem>)re");
+      R"re(<DataItem Dimensions="([0-9 ]+)" NumberType="(Float|Int)" Precision="([48])" Format="HDF">([^<:]+):([^<]+)</DataItem>)re");
   std::map<std::string, std::string> dims_of;  // dataset -> Dimensions (last seen)
   std::map<std::string, int> references;
-  for (auto it = std::sregex_iterator(xmf.begin(), xmf.end(), item); it != std::sregex_iterator();
-       ++it) {
-    const std::smatch& match = *it;
-    EXPECT_EQ(match[3].str(), "lattice.h5");
-    const bool integer = match[4].str() == "/bonds/connectivity" || match[4].str() == "/nodes/id" ||
-                         match[4].str() == "/bonds/id";
-    EXPECT_EQ(match[2].str(), integer ? "Int" : "Float") << match[4].str();
-    dims_of[match[4].str()] = match[1].str();
-    ++references[match[4].str()];
-  }
+  for (const std::string* text : {&xmf, &nodes_xmf})
+    for (auto it = std::sregex_iterator(text->begin(), text->end(), item);
+         it != std::sregex_iterator(); ++it) {
+      const std::smatch& match = *it;
+      EXPECT_EQ(match[4].str(), "lattice.h5");
+      const std::string path = match[5].str();
+      const bool integer = path == "/bonds/connectivity" || path == "/nodes/id" ||
+                           path == "/bonds/id" || path == "/nodes/vertices";
+      EXPECT_EQ(match[2].str(), integer ? "Int" : "Float") << path;
+      EXPECT_EQ(match[3].str(), "8") << path;
+      dims_of[path] = match[1].str();
+      ++references[path];
+    }
   const hid_t file = H5Fopen((stem_ + ".h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   ASSERT_GE(file, 0);
-  for (const char* path : {"/nodes/coordinates", "/nodes/id", "/nodes/displacement",
-                           "/nodes/pinned", "/bonds/connectivity", "/bonds/id", "/bonds/force",
-                           "/bonds/direction"}) {
+  for (const char* path : {"/nodes/coordinates", "/nodes/id", "/nodes/vertices",
+                           "/nodes/displacement", "/nodes/pinned", "/bonds/connectivity",
+                           "/bonds/id", "/bonds/force", "/bonds/direction"}) {
     ASSERT_EQ(dims_of.count(path), 1u) << path << " is not referenced by the .xmf";
     std::ostringstream expected;
     const auto shape = shape_of(file, path);
@@ -438,6 +450,7 @@ TEST_F(Hdf5Writer, XdmfReferencesEveryDatasetWithItsShape) {
   EXPECT_EQ(references["/nodes/coordinates"], 2);
   EXPECT_EQ(references["/nodes/displacement"], 2);
   EXPECT_EQ(references["/nodes/pinned"], 2);
+  EXPECT_EQ(references["/nodes/vertices"], 1);
   EXPECT_EQ(references["/bonds/connectivity"], 1);
   EXPECT_EQ(references["/bonds/force"], 1);
 

@@ -14,8 +14,7 @@ CURVE_HEADER = ("step,strain,displacement_over_a,stress_before_norm,stress_norm,
 def write_curve(path, rows):
     """rows: (strain, stress_before_norm, stress_norm, broken_p, broken_m, broken_pp,
     broken_pm) per step; the other columns follow from them."""
-    lines = ["# stress-strain curve of lem_fracture; sigma columns normalised by sigma_unit",
-             CURVE_HEADER]
+    lines = [CURVE_HEADER]
     for step, (strain, before, after, bp, bm, bpp, bpm) in enumerate(rows, 1):
         broken = bp + bm + bpp + bpm
         n_b = bp / broken if broken else 0.0

@@ -68,7 +68,7 @@ def test_plot_fracture_reports_a_broken_table(fracture_dir):
     write_manifest(fracture_dir, ("curve.csv", "broken.csv", "summary.json"))
     done = run_script("plot_fracture.py", fracture_dir)
     assert done.returncode == 1
-    assert "curve.csv: line 6 has 2 fields" in done.stderr
+    assert "curve.csv: line 5 has 2 fields" in done.stderr
     assert not os.path.exists(os.path.join(fracture_dir, "fracture.png"))
 
 

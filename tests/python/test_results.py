@@ -1,4 +1,5 @@
 """The one results reader on small files written here."""
+import csv
 import json
 import math
 import os
@@ -61,6 +62,24 @@ def test_curve_of_a_fracture_run(fracture_dir):
     np.testing.assert_allclose(curve["strain"], [1e-4, 2e-4, 3e-4])
     np.testing.assert_array_equal(curve["broken"], [3, 6, 12])
     np.testing.assert_allclose(curve["n_b"], [0, 1 / 6, 2 / 12])
+
+
+def test_curve_reads_in_standard_readers(fracture_dir):
+    # The header row first: csv, numpy and the tools agree without options.
+    path = os.path.join(fracture_dir, "curve.csv")
+    with open(path, newline="") as f:
+        rows = list(csv.DictReader(f))
+    table = np.genfromtxt(path, delimiter=",", names=True)
+    curve = results.read_curve(path)
+    np.testing.assert_allclose(table["strain"], [float(r["strain"]) for r in rows])
+    np.testing.assert_allclose(table["strain"], curve["strain"])
+
+
+def test_curve_of_an_older_version_with_a_comment_line(tmp_path, fracture_dir):
+    with open(os.path.join(fracture_dir, "curve.csv")) as f:
+        text = f.read()
+    path = write(tmp_path / "curve.csv", "# stress-strain curve of lem_fracture\n" + text)
+    np.testing.assert_allclose(results.read_curve(path)["strain"], [1e-4, 2e-4, 3e-4])
 
 
 def test_curve_without_rows_is_refused(tmp_path):

@@ -5,8 +5,8 @@ A lem_fracture folder holds a finished result only if its manifest.txt
 with the files: require_finished checks that before anything is read.
 
 CSV tables (curve.csv, broken.csv, summary.csv, a study's results.csv, the
-tables of lem_convergence and lem_stiffness) may start with '#' comment
-lines; JSON files (summary.json, stress.json, run records) must hold an
+tables of lem_convergence and lem_stiffness) start with their header row;
+'#' lines, which files of older versions start with, are skipped.  JSON files (summary.json, stress.json, run records) must hold an
 object; HDF5 fields are read with h5py, imported only when needed.
 Every problem is raised as ResultsError naming the file.
 """

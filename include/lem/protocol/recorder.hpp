@@ -1,5 +1,6 @@
 // The fracture results of one run directory: the stress-strain curve
-// (curve.csv, one row per evaluated load step), every rupture (broken.csv),
+// (curve.csv, one row per evaluated load step, with its column units in
+// curve.json), every rupture (broken.csv),
 // field snapshots and the fields of the first equilibrium.  The CSV files
 // grow as <name>.part and are renamed when the run is complete; on resume
 // they are cut back to the lengths recorded with the checkpoint.  Every
@@ -55,7 +56,12 @@ class FractureRecorder {
   /// Collective.  They are not committed yet: the driver's manifest does that.
   void finish();
 
+  /// The header row of curve.csv (its first line).
+  static std::string curve_header();
+
  private:
+  /// curve.json: what each column of curve.csv holds, in which unit.
+  std::string curve_sidecar() const;
   struct FileCloser {
     void operator()(std::FILE* f) const { std::fclose(f); }
   };
