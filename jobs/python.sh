@@ -6,7 +6,7 @@ if [ -z "${LEM_PYTHON:-}" ]; then
   [ -f /etc/debian_version ] && [ -x /usr/bin/python3 ] && LEM_PYTHON=/usr/bin/python3
 fi
 command -v "$LEM_PYTHON" > /dev/null || {
-  echo "$(basename "$0"): LEM_PYTHON=$LEM_PYTHON is not a program: set LEM_PYTHON to a Python 3 with PyYAML, NumPy, h5py and matplotlib" >&2
+  echo "$(basename "$0"): LEM_PYTHON=$LEM_PYTHON is not a program: set LEM_PYTHON to a Python 3 with PyYAML, NumPy, SciPy, h5py and matplotlib" >&2
   exit 1
 }
 export LEM_PYTHON

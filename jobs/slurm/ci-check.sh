@@ -98,8 +98,8 @@ read -r -a ids < "$work/slurm/job-ids"
 cal_log="$work/calibration/log"
 wait_for_line "^step" "$cal_log"
 scancel --signal=USR1 --batch "${ids[1]}_0"
-wait_jobs "${ids[@]}"
 cal_out=$(out_of "lem-calibrate-${ids[1]}_0.out")
+wait_jobs "${ids[@]}"
 grep -q "requeueing ${ids[1]}_0" "$cal_out" || fail "the calibration did not requeue itself: $(tail -3 "$cal_out")"
 grep -q "start 2," "$cal_out" || fail "the requeued calibration's output is not appended: $(tail -3 "$cal_out")"
 [ "$(grep -c "^--- study.py started" "$cal_log")" = 2 ] || fail "the calibration log lacks an attempt"
@@ -144,8 +144,8 @@ task="${ids[2]}_3"   # the victim is the last run of the grid
 log="$work/runs/$victim/log"
 wait_for_line "^step" "$log"
 scancel --signal=USR1 --batch "$task"
-wait_jobs "${ids[@]}"
 run_out=$(out_of "lem-runs-${task}.out")
+wait_jobs "${ids[@]}"
 grep -q "requeueing $task" "$run_out" || fail "task $task did not requeue itself: $(tail -3 "$run_out")"
 grep -q "^--- study.py started .*: mpirun --allow-run-as-root -n 2 " "$log" ||
   fail "the run did not use the mpirun fallback: $(head -1 "$log")"

@@ -36,12 +36,14 @@ start)
     cp /run/munge/munged.pid "$state/munged.pid"
   fi
   # MpiDefault=pmix: srun starts Debian's Open MPI programs through PMIx.
+  # cred_expire: a requeued job may start again after 10 s, not 120 s.
   cat > "$conf" <<CONF
 $mark: one node, this machine.
 ClusterName=lem-local
 SlurmctldHost=$host
 SlurmUser=root
 AuthType=auth/munge
+AuthInfo=cred_expire=10
 ProctrackType=proctrack/linuxproc
 TaskPlugin=task/none
 MpiDefault=pmix
@@ -61,7 +63,8 @@ MaxArraySize=10000
 NodeName=$host CPUs=$cpus RealMemory=$mem State=UNKNOWN
 PartitionName=local Nodes=$host Default=YES MaxTime=INFINITE State=UP OverSubscribe=NO
 CONF
-  if ! pgrep -x slurmctld > /dev/null; then rm -f "$state/slurmctld.pid"; slurmctld -c; wait_pid_file "$state/slurmctld.pid"; fi
+  if ! pgrep -x slurmctld > /dev/null; then rm -f "$state/slurmctld.pid"; slurmctld -c; wait_pid_file "$state/slurmctld.pid"
+  else scontrol reconfigure; fi  # running with an earlier version of this file
   if ! pgrep -x slurmd > /dev/null; then rm -f "$state/slurmd.pid"; slurmd; wait_pid_file "$state/slurmd.pid"; fi
   for _ in $(seq 30); do
     sinfo -h -o "%T" 2> /dev/null | grep -qE "idle|mixed|alloc" && { sinfo; exit 0; }

@@ -46,8 +46,8 @@ for arg in "$@"; do
   fi
 done
 source "$root/jobs/python.sh"
-"$LEM_PYTHON" -c "import yaml, numpy, h5py, matplotlib" 2> /dev/null ||
-  fail "$LEM_PYTHON lacks PyYAML, NumPy, h5py or matplotlib: set LEM_PYTHON to a Python 3 that has them"
+"$LEM_PYTHON" -c "import yaml, numpy, scipy, h5py, matplotlib" 2> /dev/null ||
+  fail "$LEM_PYTHON lacks PyYAML, NumPy, SciPy, h5py or matplotlib: set LEM_PYTHON to a Python 3 that has them"
 command -v sbatch > /dev/null || fail "sbatch not found: submit from a Slurm login node"
 # Checks the study file and the output folder before anything is queued.
 "$LEM_PYTHON" "$root/tools/study.py" plan "$study" "$out"

@@ -561,6 +561,8 @@ def do(args):
             raise StudyError("--ranks %d is not a positive integer" % args.ranks)
         study.spec["ranks"] = args.ranks
     command, index = args.command, args.index
+    if command in ("calibrate", "run", "all"):
+        launcher(study.spec["ranks"])  # a bad LEM_LAUNCHER stops before any work
     study.plan()
     if command in ("samples", "all"):
         study.make_samples(index if command == "samples" else None)
