@@ -1,6 +1,7 @@
 #!/bin/bash
 # mpirun with the flags this machine needs: root may run MPI jobs, and more
-# ranks than cores are allowed.  Usage: jobs/mpirun.sh NRANKS program [args]
+# ranks than cores are allowed.  Usage: jobs/mpirun.sh [-n] NRANKS program [args]
+# (with -n it can stand for mpirun in LEM_MPIRUN: jobs/study-local.sh)
 #
 # Stop requests (docs/reliability.md, "Stop signals"): Open MPI 4.1's mpirun
 # passes SIGUSR1 on to the ranks, but answers SIGTERM by killing them
@@ -10,6 +11,7 @@
 # script.  (Being a background job, mpirun reads no terminal input; Ctrl-C
 # still reaches it and aborts the run.)
 set -uo pipefail
+[ "${1:-}" = -n ] && shift
 n="$1"; shift
 flags=(--oversubscribe)
 [ "$(id -u)" -eq 0 ] && flags+=(--allow-run-as-root)

@@ -4,9 +4,13 @@
 # skips complete runs and resumes interrupted ones from their checkpoints.
 # Usage: jobs/study-local.sh STUDY.yaml OUT_DIR [--ranks N]
 # LEM_BIN=DIR: the lem_* programs of DIR (e.g. the bin/ of an install), and
-# nothing is built (docs/building.md).
+# nothing is built (docs/building.md).  The launcher is jobs/mpirun.sh (this
+# machine's flags) unless LEM_LAUNCHER / LEM_MPIRUN say otherwise; the Python
+# is $LEM_PYTHON (jobs/python.sh).
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 [ $# -ge 2 ] || { echo "usage: study-local.sh STUDY.yaml OUT_DIR [--ranks N]" >&2; exit 1; }
+source "$root/jobs/python.sh"
 [ -n "${LEM_BIN:-}" ] || bash "$root/jobs/build.sh"
-exec /usr/bin/python3 "$root/tools/study.py" all "$@"
+export LEM_MPIRUN="${LEM_MPIRUN:-$(printf %q "$root/jobs/mpirun.sh")}"
+exec "$LEM_PYTHON" "$root/tools/study.py" all "$@"

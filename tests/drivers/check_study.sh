@@ -6,6 +6,8 @@ set -u
 bin="$1"; work="$2"
 root="$(cd "$(dirname "$0")/../.." && pwd)"
 study=(/usr/bin/python3 "$root/tools/study.py")
+# the runs as jobs/mpirun.sh starts them here (root, oversubscription)
+export LEM_MPIRUN="$root/jobs/mpirun.sh" LEM_LAUNCHER=mpirun
 fail() { echo "FAIL: $*"; exit 1; }
 rm -rf "$work"; mkdir -p "$work"
 expect_error() {  # expect_error PATTERN COMMAND...: exit 1 (bad input), message matching PATTERN

@@ -7,10 +7,12 @@ Commands (each skips what is already complete, so any can be rerun):
   calibrate  sigma^[p] and E^[p] on the homogeneous lattice (lem_fracture), one
              per lattice (--index I for one), then the elastic pulls of that
              lattice's samples if the study asks for them (lem_tension)
-  run        the tension runs (lem_fracture under mpirun); --index I for one
+  run        the tension runs (lem_fracture under the MPI launcher); --index I
+             for one
   gather     one table (results.csv) and the paper's figures from complete runs;
              with a bond axis or replicates also the convergence table and figures
-  status     complete / failed / pending runs (and elastic pulls)
+  status     complete / failed / pending runs (and elastic pulls); missing
+             samples and calibrations with their logs' last error
   all        plan, samples, calibrate, run and gather on this machine
 
 Study file keys (YAML; anything else is an error):
@@ -43,13 +45,22 @@ convergence.csv, convergence.md and figures/convergence_*.png.  A run is
 complete when its manifest.txt agrees with its files and its run.json matches
 the study; an interrupted run (exit 4, checkpoint written) resumes from its
 checkpoint when run again.
+
+MPI launcher (environment): LEM_LAUNCHER=srun or mpirun (default: srun inside
+a Slurm allocation, else mpirun); LEM_SRUN and LEM_MPIRUN, the command of
+each with any flags (default: the bare name), e.g.
+LEM_SRUN="srun --mpi=pmix" or LEM_MPIRUN="mpirun --oversubscribe".
+Logs are appended to, one "--- study.py" line before each attempt.
 """
+import datetime
 import hashlib
 import json
 import math
 import os
 import re
+import shlex
 import signal
+import socket
 import subprocess
 import sys
 
@@ -71,6 +82,10 @@ OPTION_NAME = re.compile(r"[A-Za-z][A-Za-z0-9_]*\Z")
 RESERVED_OPTIONS = {"matrix_fraction", "output_dir", "output_stem", "sample_file"}
 COMMANDS = ("plan", "samples", "calibrate", "run", "gather", "status", "all")
 EXIT_INTERRUPTED = 4  # lem_fracture: checkpoint written after SIGTERM / SIGUSR1
+LAUNCHERS = ("srun", "mpirun")
+LOG_MARK = "--- study.py "  # starts every attempt in an appended log
+# srun's own lines about the exit of its tasks, which tail() leaves out
+SRUN_NOISE = re.compile(r"srun: (error: .*: (Exited with exit code|Killed)|Job step|forcing)")
 ELASTIC_CONTACTS = ("bare", "adhesive")
 
 
@@ -289,7 +304,7 @@ class Study:
 
     def fracture_command(self, sample, out_dir, extra):
         ph = self.spec["phases"]
-        return (mpirun(self.spec["ranks"]) + [
+        return (launcher(self.spec["ranks"]) + [
             os.path.join(self.bin, "lem_fracture"), "-sample_file", sample, "-output_dir", out_dir]
             + self.moduli_options(ph["E_pp"]) + [
             "-phase_sigma_p", str(ph["sigma_p"]), "-phase_sigma_m", str(ph["sigma_p"]),
@@ -398,7 +413,7 @@ class Study:
             return 0
         d = self.pull_dir(pull)
         e_pp = 0 if pull["contacts"] == "bare" else self.spec["phases"]["E_pm"]
-        cmd = mpirun(self.spec["ranks"]) + [
+        cmd = launcher(self.spec["ranks"]) + [
             os.path.join(self.bin, "lem_tension"), "-sample_file",
             self.sample_file(self.lattice_of(pull), pull["rho_m"]), "-output_dir", d,
             "-output_fields", "false"] + self.moduli_options(e_pp)
@@ -439,7 +454,25 @@ class Study:
                 return EXIT_INTERRUPTED  # a stop request: start no other run
         return 0 if all(s == 0 for s in statuses) else 1
 
+    def missing_inputs(self):
+        """A line per sample or calibration not made yet: failed (with its
+        log's error) if it has a log, else not started."""
+        out = []
+        for sample in self.samples():
+            if not os.path.exists(self.sample_file(sample["lattice"], sample["rho_m"])):
+                log = os.path.join(self.out, "samples", sample["stem"] + ".log")
+                out.append(("sample %s" % sample["stem"], log))
+        for lattice in self.lattices:
+            if not self.calibration(lattice):
+                name = "calibration" if lattice["tag"] is None else "calibration " + lattice["tag"]
+                out.append((name, os.path.join(self.calibration_dir(lattice), "log")))
+        return ["%-28s %s" % (name, "failed or interrupted: %s (log: %s)" % (tail(log), log)
+                              if os.path.exists(log) else "not started")
+                for name, log in out]
+
     def status(self):
+        for line in self.missing_inputs():
+            print(line)
         counts = {"complete": 0, "failed": 0, "pending": 0}
         for run in self.runs() + self.elastic_pulls():
             state = self.state(run)
@@ -458,17 +491,34 @@ def pick(items, index, what):
     return items[index]
 
 
-def mpirun(ranks):
-    launcher = os.environ.get("LEM_MPIRUN", "mpirun --allow-run-as-root --oversubscribe")
-    return launcher.split() + ["-n", str(ranks)]
+def launcher(ranks):
+    """The MPI launcher of a run on `ranks` ranks: srun inside a Slurm
+    allocation, else mpirun, unless LEM_LAUNCHER says which; no flags but
+    those of LEM_SRUN / LEM_MPIRUN (a site's or this machine's choice)."""
+    kind = os.environ.get("LEM_LAUNCHER") or ("srun" if os.environ.get("SLURM_JOB_ID")
+                                              else "mpirun")
+    if kind not in LAUNCHERS:
+        raise StudyError("LEM_LAUNCHER=%r is not a launcher: use %s"
+                         % (kind, " or ".join(LAUNCHERS)))
+    variable = "LEM_" + kind.upper()
+    try:
+        command = shlex.split(os.environ.get(variable) or kind)
+    except ValueError as e:
+        raise StudyError("%s=%r cannot be split into words: %s"
+                         % (variable, os.environ[variable], e))
+    return command + ["-n", str(ranks)]
 
 
 def execute(cmd, log):
     """Run cmd with its output in log.  SIGUSR1 and SIGTERM (Slurm's warning
     before the time limit, a job being stopped) reach it as SIGUSR1, so that
-    lem_fracture writes its checkpoint and exits 4: Open MPI's mpirun passes
-    SIGUSR1 on to the ranks, but kills them on SIGTERM and exits 1."""
-    with open(log, "w") as f:
+    lem_fracture writes its checkpoint and exits 4: Open MPI's mpirun and
+    srun pass SIGUSR1 on to the ranks, but kill them on SIGTERM.  The log
+    is appended to, so that a requeued job keeps the interrupted part."""
+    with open(log, "a") as f:
+        f.write("%sstarted %s on %s: %s\n" % (LOG_MARK, now(), socket.gethostname(),
+                                            " ".join(cmd)))
+        f.flush()
         try:
             proc = subprocess.Popen(cmd, stdout=f, stderr=subprocess.STDOUT)
         except OSError as e:
@@ -483,17 +533,23 @@ def execute(cmd, log):
                 signal.signal(s, handler)
 
 
+def now():
+    return datetime.datetime.now().astimezone().isoformat(timespec="seconds")
+
+
 def tail(path, lines=2):
-    """The error lines of a log (else its last lines), without mpirun's boilerplate."""
+    """The error lines of a log's last attempt (else its last lines), without
+    the launcher's boilerplate."""
     try:
         with open(path, errors="replace") as f:
-            text = [l.strip() for l in f if l.strip() and not l.startswith("step ")
-                    and not l.startswith("---")]
+            attempt = f.read().split("\n" + LOG_MARK)[-1].splitlines()
     except OSError:
         return "(no log)"
+    text = [l.strip() for l in attempt if l.strip() and not l.startswith("step ")
+            and not l.startswith("---")]
     boilerplate = ("Process name", "Exit code", "Primary job", "mpirun detected", "a non-zero",
                    "the job to be terminated", "Per user-direction", "process returned")
-    text = [l for l in text if not l.startswith(boilerplate)]
+    text = [l for l in text if not l.startswith(boilerplate) and not SRUN_NOISE.match(l)]
     errors = [l for l in text if "error" in l.lower()]
     return " | ".join((errors or text)[-lines:])
 
@@ -505,6 +561,8 @@ def do(args):
             raise StudyError("--ranks %d is not a positive integer" % args.ranks)
         study.spec["ranks"] = args.ranks
     command, index = args.command, args.index
+    if command in ("calibrate", "run", "all"):
+        launcher(study.spec["ranks"])  # a bad LEM_LAUNCHER stops before any work
     study.plan()
     if command in ("samples", "all"):
         study.make_samples(index if command == "samples" else None)
