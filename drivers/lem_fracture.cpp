@@ -246,7 +246,6 @@ lem::Calibration calibrate(MPI_Comm comm, const lem::SampleOptions& sample,
   // Only the peak is needed: stop once well past it.
   hom_options.stop_fraction = std::max(options.stop_fraction, 0.5);
   hom_options.stop_within_step = true;
-  hom_options.tail_stride = 1;  // never reached; keeps one calibration per lattice
   // -fracture_max_steps bounds the sample run, not its calibration.
   hom_options.max_steps = lem::FractureOptions{}.max_steps;
   hom_options.checkpoint_seconds = 0;
@@ -495,8 +494,6 @@ int main(int argc, char** argv) {
     s.add("steps", static_cast<long long>(r.steps));
     s.add("visited_steps", static_cast<long long>(r.visited_steps));
     s.add("rupture_steps", static_cast<long long>(r.rupture_steps));
-    s.add("tail_stride", static_cast<long long>(options.tail_stride));
-    s.add("tail_start_step", static_cast<long long>(r.tail_start_step));
     s.add("relaxation_cycles", static_cast<long long>(r.relaxation_cycles));
     s.add("solves", static_cast<long long>(r.solves));
     s.add("early_stops", static_cast<long long>(r.early_stops));

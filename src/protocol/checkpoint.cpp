@@ -68,7 +68,7 @@ void check_checkpoint_values(const Checkpoint& c, const std::string& bad) {
   const FractureState& s = c.state;
   const FractureTally& t = s.tally;
   for (const std::int64_t count : {t.steps, t.visited_steps, t.solves, t.iterations,
-                                   t.preconditioner_builds, t.rupture_steps, t.tail_start_step, s.batches,
+                                   t.preconditioner_builds, t.rupture_steps, s.batches,
                                    s.files.curve_bytes, s.files.broken_bytes})
     if (count < 0) refuse("a negative count in its state");
   const DamageHistory& h = c.damage;
@@ -174,8 +174,6 @@ std::string fracture_fingerprint(const DistributedLattice& l, const FractureOpti
   const FractureOptions defaults;
   if (o.tie_band != defaults.tie_band || o.tie_rtol != defaults.tie_rtol)
     s << "\ntie_band=" << o.tie_band << "\ntie_rtol=" << o.tie_rtol;
-  if (o.tail_stride != defaults.tail_stride)
-    s << "\ntail_stride=" << o.tail_stride << "\ntail_fraction=" << o.tail_fraction;
   s << "\n";
   // Solver options are left out on purpose: a run stopped by a failed solve
   // may be resumed with others (then equal to the tolerance, not bitwise).

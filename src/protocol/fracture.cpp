@@ -19,7 +19,6 @@
 #include "lem/options.hpp"
 #include "lem/stop.hpp"
 
-#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <stdexcept>
@@ -67,8 +66,6 @@ class Protocol {
   void visit_idle(std::int64_t step);
   void visit(std::int64_t step, bool first);
   void note_peak(const TensionResponse& r);
-  void enter_tail_if_due(std::int64_t step, const TensionResponse& r);
-  std::int64_t on_tail_grid(std::int64_t step) const;
   void hold_equilibrium();
   void save_checkpoint();
   void stop_between_cycles(std::int64_t step, int cycles);
@@ -114,26 +111,6 @@ void Protocol::note_peak(const TensionResponse& r) {
   }
 }
 
-// The coarse tail (-fracture_tail_stride) begins at the first equilibrium
-// after the peak whose stress is below -fracture_tail_fraction of it.
-void Protocol::enter_tail_if_due(std::int64_t step, const TensionResponse& r) {
-  if (o_.tail_stride == 1 || tally_.tail_start_step > 0 || tally_.peak_stress <= 0 ||
-      ledger_.history().bond_events.empty() || !(r.stress_zz < o_.tail_fraction * tally_.peak_stress))
-    return;
-  tally_.tail_start_step = step;
-  say("step %lld: stress below %g of the peak; from here every %lld-th load step is evaluated "
-      "(-fracture_tail_stride)\n",
-      (long long)step, o_.tail_fraction, (long long)o_.tail_stride);
-}
-
-// The first step of the tail's grid at or after `step` (the step itself
-// before the tail).
-std::int64_t Protocol::on_tail_grid(std::int64_t step) const {
-  const std::int64_t start = tally_.tail_start_step, stride = o_.tail_stride;
-  if (start == 0 || stride == 1) return step;
-  return start + (step - start + stride - 1) / stride * stride;
-}
-
 void Protocol::visit_idle(std::int64_t step) {
   const double previous = system_.top_displacement();
   system_.rescale(displacement_of(step));
@@ -175,7 +152,6 @@ void Protocol::visit(std::int64_t step, bool first) {
   recorder_.snapshot_if_due(step, last_visit_, r);
   last_visit_ = step;
   warnings_.after_step(tally_);
-  enter_tail_if_due(step, r);
 }
 
 void Protocol::hold_equilibrium() {
@@ -258,15 +234,10 @@ FractureResult Protocol::run() {
                           checkpoint_.path() + "; run the same command again to resume");
     }
 
-    // `critical`: the first step at which a bond breaks; `next`: the step
-    // evaluated, later in the coarse tail.  The field is linear up to
-    // `critical`, so the idle visit before it is exact.
-    const std::int64_t critical = o_.skip_idle
-                                      ? critical_.next_step(system_.bond_tensions(),
-                                                            tally_.steps, o_.max_steps)
-                                      : tally_.steps + 1;
-    const std::int64_t next =
-        critical > o_.max_steps ? critical : std::min(on_tail_grid(critical), o_.max_steps);
+    const std::int64_t next = o_.skip_idle
+                                  ? critical_.next_step(system_.bond_tensions(), tally_.steps,
+                                                        o_.max_steps)
+                                  : tally_.steps + 1;
     if (next > o_.max_steps) {
       end = next == o_.max_steps + 1 && o_.skip_idle ? "no rupture before -fracture_max_steps"
                                                      : "reached -fracture_max_steps";
@@ -274,7 +245,7 @@ FractureResult Protocol::run() {
     }
     hold_equilibrium();
     try {
-      if (critical - 1 > tally_.steps) visit_idle(critical - 1);
+      if (next - 1 > tally_.steps) visit_idle(next - 1);
       visit(next, false);
     } catch (const NumericalError& e) {
       save_checkpoint();

@@ -36,15 +36,6 @@ FractureOptions read_fracture_options(MPI_Comm comm) {
                                 "post-failure tail; 0: no limit)", o.max_strain_ratio, 0.0, 1e9);
     o.max_steps = g.integer("-fracture_max_steps", "Largest load step (the run ends there)",
                             o.max_steps, 1, 1'000'000'000);
-    o.tail_stride = g.integer(
-        "-fracture_tail_stride", "Post-failure tail: once the stress has fallen below "
-        "-fracture_tail_fraction times the peak, evaluate only every this-many-th load step, "
-        "so that ruptures spread over that many increments break in one step (1: every step, "
-        "the paper's protocol; docs/fracture.md, \"The post-failure tail\")",
-        o.tail_stride, 1, 1'000'000);
-    o.tail_fraction = g.real("-fracture_tail_fraction", "Stress, as a fraction of the peak, "
-                             "below which -fracture_tail_stride applies", o.tail_fraction, 0.0,
-                             1.0, true);
     o.rebuild_after_ruptures = g.integer(
         "-fracture_pc_rebuild_ruptures", "Rebuild the preconditioner after this many ruptures "
         "since the last build (0: never for this reason)", o.rebuild_after_ruptures, 0,

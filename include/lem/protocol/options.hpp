@@ -32,11 +32,6 @@ struct FractureOptions {
   bool stop_within_step = false;     // test the stop fraction after every relaxation
                                      // cycle (calibration: only the peak matters)
   std::int64_t max_steps = 1000000;
-  // Post-failure tail: once an equilibrium after the peak carries less than
-  // tail_fraction times the peak stress, only every tail_stride-th load step
-  // (counted from that step) is evaluated.  1: every step (the paper).
-  std::int64_t tail_stride = 1;
-  double tail_fraction = 0.1;
   RelaxationScheme relaxation = RelaxationScheme::global;
   double patch_radius = 5.0;         // local: patch = nodes within this many a of new ruptures
   double patch_margin = 0.05;        // local: a patch field breaks a bond only above (1 + margin) f

@@ -21,7 +21,6 @@ struct FractureTally {
   std::int64_t solves = 0, iterations = 0, preconditioner_builds = 0;
   std::int64_t fallback_solves = 0;  // multigrid failed, Jacobi-CG solved (ElasticSystem)
   std::int64_t rupture_steps = 0;  // steps with at least one rupture
-  std::int64_t tail_start_step = 0;  // where the coarse tail began (0: not yet or never)
   std::int64_t relaxation_cycles = 0;
   std::int64_t early_stops = 0;    // relaxation solves ended once the batch was decided
   std::int64_t tie_solves = 0;     // re-solves to -fracture_tie_rtol for bonds in doubt
