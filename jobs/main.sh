@@ -13,7 +13,8 @@
 # install, or another build folder) those of DIR, and nothing is built.
 # The copy installed as <prefix>/share/lem3d/jobs/main.sh runs <prefix>/bin
 # (or LEM_BIN) on the installed sample and writes results/main under the
-# current directory.  LEM_RANKS: the rank count (2).
+# current directory.  LEM_RANKS: the rank count (2); LEM_PYTHON: the Python
+# of the plots (jobs/python.sh).
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 bin=build
@@ -33,5 +34,6 @@ dir=results/main
 for ((i = 1; i <= $#; ++i)); do
   [ "${!i}" = "-output_dir" ] && { j=$((i + 1)); dir="${!j}"; }
 done
-/usr/bin/python3 "$root/tools/plot_fracture.py" "$dir"
-/usr/bin/python3 "$root/tools/plot_stress.py" "$dir"
+source "$root/jobs/python.sh"
+"$LEM_PYTHON" "$root/tools/plot_fracture.py" "$dir"
+"$LEM_PYTHON" "$root/tools/plot_stress.py" "$dir"
