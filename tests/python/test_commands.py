@@ -57,9 +57,11 @@ def test_wrong_argument_count_is_a_usage_error():
 def test_plot_fracture_draws_a_run(fracture_dir):
     done = run_script("plot_fracture.py", fracture_dir + "/")
     assert done.returncode == 0, done.stderr
-    assert done.stdout == "wrote %s/fracture.png\n" % fracture_dir
+    assert done.stdout == "wrote %s/fracture.png and fracture.pdf\n" % fracture_dir
     with open(os.path.join(fracture_dir, "fracture.png"), "rb") as f:
         assert f.read(8) == b"\x89PNG\r\n\x1a\n"
+    with open(os.path.join(fracture_dir, "fracture.pdf"), "rb") as f:
+        assert f.read(5) == b"%PDF-"
 
 
 def test_plot_fracture_reports_a_broken_table(fracture_dir):

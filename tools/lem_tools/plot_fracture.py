@@ -2,10 +2,10 @@
 
 Reads RESULTS_DIR/curve.csv, broken.csv, summary.json (and, if present, the
 homogeneous-lattice calibration run RESULTS_DIR/calibration/curve.csv);
-writes RESULTS_DIR/fracture.png with three panels (Affes et al. 2012):
+writes RESULTS_DIR/fracture.png (and .pdf) with three panels (Affes et al. 2012):
 (a) stress-strain curve sigma_zz/sigma_unit against epsilon_zz (fig. 3), with
 the stress drops of the rupture steps as vertical segments, the peak
-sigma_eff and E_eff; (b) 3D map of the broken-bond midpoints coloured by
+sigma_eff and E_eff, and an inset up to twice the peak strain; (b) 3D map of the broken-bond midpoints coloured by
 phase (fig. 4); (c) share n_b of broken bonds inside the particles and
 cumulative broken bonds per phase against strain (fig. 13).
 """
@@ -58,6 +58,21 @@ def panel_stress(ax, curve, calibration, summary):
     ax.set_ylabel(r"$\sigma_{zz}\,/\,\sigma^{[p]}$")
     ax.set_title("(a) stress-strain", fontsize=10)
     ax.legend(loc="upper left", fontsize=7.5, framealpha=0.9)
+    inset_pre_peak(ax, curve, sigma_eff, strain_peak)
+
+
+def inset_pre_peak(ax, curve, sigma_eff, strain_peak):
+    """The rise to the peak and the first fall, which the long post-failure
+    tail squeezes against the axis of the main panel."""
+    if not strain_peak > 0 or not sigma_eff > 0:
+        return
+    inset = ax.inset_axes([0.5, 0.28, 0.46, 0.4])
+    inset.plot(*sawtooth(curve), color="k", lw=1.0)
+    inset.plot([strain_peak * STRAIN_SCALE], [sigma_eff], "o", color="tab:red", ms=4)
+    inset.set_xlim(0, 2 * strain_peak * STRAIN_SCALE)
+    inset.set_ylim(0, 1.15 * sigma_eff)
+    inset.set_title(r"up to 2 $\epsilon_{\rm peak}$", fontsize=7, pad=2)
+    inset.tick_params(labelsize=6.5)
 
 
 def panel_bonds(ax, xyz, phase, bare):
@@ -113,12 +128,13 @@ def panel_damage(ax, curve):
     n_b = np.concatenate([[np.nan], np.where(curve["broken"] > 0, curve["n_b"], np.nan)])
     handles = ax.plot(strain, n_b, color="k", lw=1.8, drawstyle="steps-post",
                       label=r"$n_b$ (left axis)")
-    # both axes leave a free band on top for the legend
-    ax.set_ylim(0, 1.3)
-    ax.set_yticks(np.linspace(0, 1, 6))
+    # Scaled to its data (n_b is often a few per mille); both axes leave a
+    # free band on top for the legend.
+    top = np.nanmax(n_b) if np.isfinite(n_b).any() else 0.0
+    ax.set_ylim(0, 1.45 * top if top > 0 else 1.0)
     ax.set_xlim(left=0, right=strain[-1])
     ax.set_xlabel(r"$\epsilon_{zz}$ ($\times 10^{-3}$)")
-    ax.set_ylabel(r"$n_b$ = broken in particles / all broken")
+    ax.set_ylabel(r"$n_b$ (share of broken bonds in particles)")
     ax.set_title("(c) damage", fontsize=10)
     right = ax.twinx()
     for p in BREAKABLE:
@@ -174,7 +190,7 @@ def draw(directory):
 
     fig = plt.figure(figsize=(12, 4.5))
     grid = fig.add_gridspec(1, 3, width_ratios=(1, 1.15, 1), left=0.055, right=0.935,
-                            bottom=0.13, top=0.88, wspace=0.3)
+                            bottom=0.13, top=0.88, wspace=0.38)
     ax_stress = fig.add_subplot(grid[0])
     ax_bonds = fig.add_subplot(grid[1], projection="3d")
     ax_damage = fig.add_subplot(grid[2])
@@ -183,8 +199,8 @@ def draw(directory):
     panel_damage(ax_damage, curve)
     fig.suptitle(title(summary, directory), fontsize=10)
     out = f"{directory}/fracture.png"
-    save_figure(fig, out, dpi=120)
-    print(f"wrote {out}")
+    save_figure(fig, out, also=(".pdf",), dpi=120)
+    print(f"wrote {out} and fracture.pdf")
 
 
 def main(argv=None):
