@@ -4,7 +4,7 @@
 # and E^[p] on the homogeneous lattice, breaks the sample, prints E_eff and
 # sigma_eff, and writes results/main/{summary.json,summary.csv,curve.csv,
 # broken.csv,fields.h5,fields.xmf,elastic.h5,elastic.xmf,manifest.txt,
-# fracture.png,fracture.pdf,stress.png}.  Run again, it finds the result complete and
+# fracture.png,fracture.pdf,stress.png,stress.pdf}.  Run again, it finds the result complete and
 # computes nothing (pass -output_overwrite to compute it again).
 # Extra arguments are passed to lem_fracture (PETSc options).
 #

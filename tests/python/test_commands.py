@@ -91,7 +91,7 @@ def test_plot_stress_fits_the_tail_and_writes_stress_json(tmp_path):
     assert result["loaded_nodes"] == len(coords)
     assert result["volume_average_stress_zz"] == pytest.approx(applied * s.mean())
     assert os.path.exists(tmp_path / "stress.png")
-    assert sorted(os.listdir(tmp_path)) == ["elastic.h5", "stress.json", "stress.png"]
+    assert sorted(os.listdir(tmp_path)) == ["elastic.h5", "stress.json", "stress.pdf", "stress.png"]
 
 
 def test_study_command_line(tmp_path):

@@ -10,7 +10,7 @@ equilibrium: node stresses of eq. 1 with their Voronoi volumes) and writes
 
 The map shows the cut of the 3D Voronoi cells by the plane: each pixel takes
 the stress of the node nearest to it in 3D.  Nodes without any bond (void
-phase) carry no stress and are left out of the pdf; they are drawn white.
+phase) carry no stress and are left out of the pdf; they are drawn grey.
 
 Tail exponent: P(s) ~ exp(-beta s) for s = sigma_zz^i / sigma_zz above 1;
 beta is the maximum-likelihood value 1 / mean(s - 1) of the nodes in the
@@ -44,13 +44,13 @@ def draw(out):
     image, extent = mid_plane_map(d["coords"], values, lo, hi)
     limit = np.nanquantile(np.abs(s), 0.99)
     cmap = matplotlib.colormaps["RdBu_r"].copy()
-    cmap.set_bad("white")
+    cmap.set_bad("0.55")  # void: grey, so that it is not read as zero stress (white)
     shown = ax_map.imshow(image, origin="lower", extent=extent, cmap=cmap, vmin=-limit,
                           vmax=limit, interpolation="nearest")
     fig.colorbar(shown, ax=ax_map, label=r"$\sigma_{zz}^i / \sigma_{zz}$ (tension > 0)")
     ax_map.set_xlabel("x")
     ax_map.set_ylabel("z")
-    ax_map.set_title("(a) node stresses on the mid-plane y = %.2f (void white)"
+    ax_map.set_title("(a) node stresses on the mid-plane y = %.2f (void grey)"
                      % (0.5 * (lo[1] + hi[1])))
 
     hist, edges = np.histogram(s, bins=BINS, density=True)
@@ -59,12 +59,15 @@ def draw(out):
     ax_pdf.semilogy(centres[ok], hist[ok], "o", ms=4, color="black", label="nodes")
     if fit:
         share = (s > TAIL_START).mean()
-        xs = np.linspace(TAIL_START, s.max(), 50)
+        # Over the nodes it describes: the tail up to its 99 % quantile (a
+        # single node per bin beyond that is the histogram's floor).
+        xs = np.linspace(TAIL_START, np.quantile(s[s > TAIL_START], 0.99), 50)
         # The tail's own density, scaled by its share of the nodes.
         ax_pdf.semilogy(xs, share * fit["beta"] * np.exp(-fit["beta"] * (xs - TAIL_START)), ":",
                         color="tab:red", lw=2,
                         label=r"$\propto e^{-\beta s}$, $\beta$ = %.2f (ML; log-fit %.2f)"
                         % (fit["beta"], fit["beta_histogram_fit"]))
+    ax_pdf.set_ylim(bottom=0.3 * hist[ok].min())
     ax_pdf.set_xlabel(r"$s = \sigma_{zz}^i / \sigma_{zz}$")
     ax_pdf.set_ylabel("pdf")
     ax_pdf.set_title("(b) pdf of the vertical node stresses (%d loaded nodes)" % loaded.sum())
@@ -73,7 +76,7 @@ def draw(out):
                  r"$\sigma_{zz}^i$ / applied = %.8f"
                  % (os.path.basename(os.path.abspath(out)), d["strain"], relative_mean))
     fig.tight_layout()
-    save_figure(fig, os.path.join(out, "stress.png"), dpi=110)
+    save_figure(fig, os.path.join(out, "stress.png"), also=(".pdf",), dpi=110)
     write_json(os.path.join(out, "stress.json"), result)
     print("stress: beta = %s, volume average / applied = %.8f -> %s/stress.png"
           % ("%.3f" % fit["beta"] if fit else "n/a", relative_mean, out))
