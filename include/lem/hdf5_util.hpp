@@ -2,7 +2,7 @@
 // sample files).  Private to the io module: it exposes HDF5 types.
 #pragma once
 
-#include "lem/hdf5_writer.hpp"  // Provenance
+#include "lem/provenance.hpp"
 
 #include <hdf5.h>
 
@@ -90,11 +90,16 @@ class XdmfText {
   void end_grid();
   /// The whole document (closes the domain).
   std::string text() const;
+  /// What every lem XDMF document opens (up to the domain) and closes with.
+  static std::string document_head();
+  static std::string document_tail();
   /// The row numbers first .. first+n-1, for (a slice of) a `vertices` dataset.
   static std::vector<std::int64_t> vertex_rows(std::int64_t first, std::int64_t n);
 
  private:
   void data_item(std::int64_t rows, int columns, const char* number_type, int precision,
+                 const std::string& dataset);
+  void data_item(const std::string& dims, const char* number_type, int precision,
                  const std::string& dataset);
   void geometry(std::int64_t points, const std::string& coordinates);
   std::string h5_name_;
@@ -102,3 +107,16 @@ class XdmfText {
 };
 
 }  // namespace lem::h5
+
+namespace lem {
+
+/// Rank 0: `path`, an XDMF temporal collection of the grids of `grid_files`
+/// (<stem>.xmf files of write_lattice_fields in the folder of `path`), in
+/// the order given, each at the time held by the root attribute
+/// `time_attribute` of its <stem>.h5 (a scalar).  ParaView plays it; meshio
+/// reads it with its TimeSeriesReader.  (The single files carry no time:
+/// meshio.read refuses a grid with one.)
+void write_xdmf_series(const std::string& path, const std::vector<std::string>& grid_files,
+                       const std::string& time_attribute);
+
+}  // namespace lem

@@ -59,13 +59,4 @@ void write_lattice_fields(MPI_Comm comm, const std::string& stem, const NodeSlic
                           const BondSlice& bonds, const Provenance& provenance,
                           const std::vector<std::pair<std::string, double>>& scalars);
 
-/// Rank 0: `path`, an XDMF temporal collection of the grids of `grid_files`
-/// (<stem>.xmf files of write_lattice_fields in the folder of `path`), in
-/// the order given, each at the time held by the root attribute
-/// `time_attribute` of its <stem>.h5 (a scalar).  ParaView plays it; meshio
-/// reads it with its TimeSeriesReader.  (The single files carry no time:
-/// meshio.read refuses a grid with one.)
-void write_xdmf_series(const std::string& path, const std::vector<std::string>& grid_files,
-                       const std::string& time_attribute);
-
 }  // namespace lem

@@ -24,7 +24,7 @@
 #pragma once
 
 #include "lem/cemented_sample.hpp"
-#include "lem/hdf5_writer.hpp"  // Provenance
+#include "lem/provenance.hpp"
 
 #include <string>
 

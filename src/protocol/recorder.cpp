@@ -3,6 +3,7 @@
 #include "lem/driver.hpp"
 #include "lem/error.hpp"
 #include "lem/files.hpp"
+#include "lem/hdf5_util.hpp"
 #include "lem/node_stress.hpp"
 #include "lem/summary.hpp"
 #include "lem/tension_output.hpp"
@@ -246,18 +247,6 @@ void FractureRecorder::snapshot_if_due(std::int64_t step, std::int64_t previous_
   s.add("strain", r.strain_zz);
   s.add("stress_norm", r.stress_zz * options_.stress_unit / options_.strength_unit);
   write_tension_fields(options_.output_dir + stem, lattice_, system_, provenance_, s);
-  // Every snapshot of the run so far (those of a resumed run's first part
-  // too), as one series in time: the strain.
-  run_on_root(lattice_.comm, [&] {
-    std::vector<std::string> grids;
-    std::error_code ec;
-    for (const auto& entry : std::filesystem::directory_iterator(options_.output_dir, ec)) {
-      const std::string name = entry.path().filename().string();
-      if (is_snapshot_grid(name)) grids.push_back(entry.path().string());
-    }
-    std::sort(grids.begin(), grids.end());  // zero-padded steps: in time order
-    write_xdmf_series(options_.output_dir + "/snapshots.xmf", grids, "strain");
-  });
 }
 
 void FractureRecorder::elastic_fields(const TensionResponse& r) {
@@ -279,6 +268,17 @@ void FractureRecorder::elastic_fields(const TensionResponse& r) {
 
 void FractureRecorder::finish() {
   run_on_root(lattice_.comm, [&] {
+    // Every snapshot of the run (those of a resumed run's first part too),
+    // as one series in time, the strain: once, at the end.
+    if (options_.snapshot_steps > 0) {
+      std::vector<std::string> grids;
+      std::error_code ec;
+      for (const auto& entry : std::filesystem::directory_iterator(options_.output_dir, ec))
+        if (is_snapshot_grid(entry.path().filename().string()))
+          grids.push_back(entry.path().string());
+      std::sort(grids.begin(), grids.end());  // zero-padded steps: in time order
+      write_xdmf_series(options_.output_dir + "/snapshots.xmf", grids, "strain");
+    }
     // Both closed and synced before either is renamed: a failure renames
     // nothing.
     curve_.close();
