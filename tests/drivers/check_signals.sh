@@ -96,7 +96,7 @@ reference)
   echo "ok: $(grep '^end:' "$ref.log")"
   ;;
 calibration)
-  LEM_FAULT_PAUSE=relaxation_cycle:50 start "$cut" "${mpi[@]}" -n 2
+  LEM_FAULT_PAUSE=relaxation_cycle:45 start "$cut" "${mpi[@]}" -n 2
   wait_paused
   kill -USR1 "$leader"
   finish 4
