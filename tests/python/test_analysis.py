@@ -125,3 +125,28 @@ def test_work_split_takes_differences_of_the_cumulative_counts_at_the_peak():
     assert stages["after the peak"] == {"solves": 4, "iterations": 120, "pc_builds": 1,
                                         "elapsed_s": 2, "broken": 3, "evaluated_steps": 2,
                                         "rupture_steps": 1}
+
+
+def test_near_threshold_counts_post_peak_batches_that_hold_a_close_rupture():
+    from lem_tools import work_split
+    # Three batches after the peak strain 2e-4: (3, 0) has ratios 1.2 and
+    # 1.02, (3, 1) has 1.5, (4, 0) a bare contact (threshold 0) and 1.04;
+    # the rupture at the peak's strain is left out.
+    broken = {"step": np.array([2.0, 3, 3, 3, 4, 4]), "cycle": np.array([0.0, 0, 0, 1, 0, 0]),
+              "strain": np.array([2e-4, 3e-4, 3e-4, 3e-4, 4e-4, 4e-4]),
+              "force": np.array([1.0, 1.2, 1.02, 1.5, 1e-3, 1.04]),
+              "threshold": np.array([1.0, 1, 1, 1, 0, 1])}
+    ruptures, batches, shares = work_split.near_threshold(broken, 2e-4, (0.01, 0.03, 0.05))
+    assert (ruptures, batches) == (5, 3)
+    assert shares[0.01] == (0.0, 0.0)
+    assert shares[0.03] == pytest.approx((1 / 5, 1 / 3))
+    assert shares[0.05] == pytest.approx((2 / 5, 2 / 3))
+
+
+def test_margins_must_be_non_negative_numbers():
+    from lem_tools import work_split
+    from lem_tools.errors import ToolError
+    assert work_split.margin_list("0.01,0.05") == (0.01, 0.05)
+    for bad in ("x", "0.01,-1", "nan"):
+        with pytest.raises(ToolError, match="--margins"):
+            work_split.margin_list(bad)
