@@ -357,3 +357,32 @@ def test_gather_reports_a_missing_elastic_pull(tmp_path, capsys):
     assert "%s not complete: left out" % pull["id"] in capsys.readouterr().out
     samples = read_rows(os.path.join(s.out, "samples.csv"))
     assert samples[0]["E_bare_over_E_unit"] == "nan"
+
+
+def test_paper_marks_in_units_of_the_particle_modulus():
+    from lem_tools import convergence_plots
+    # the paper's phases: E^[m] = E^[p] / 3, so 1.6 E^[m] = 0.533 E^[p]
+    phases = {"E_p": 3.0, "E_m": 1.0}
+    marks = convergence_plots.paper_marks("E_bare_over_E_unit", [0.06, 0.28], phases)
+    assert marks == [(0.28, pytest.approx(1.6 / 3))]
+    assert convergence_plots.paper_marks("E_adhesive_over_E_unit", [0.28], {"E_p": 2.0,
+                                         "E_m": 1.0}) == [(0.28, pytest.approx(1.25))]
+    # no mark where the paper gives no value
+    assert convergence_plots.paper_marks("E_bare_over_E_unit", [0.13], phases) == []
+    assert convergence_plots.paper_marks("sigma_eff_over_sigma_unit", [0.28], phases) == []
+
+
+def test_the_convergence_panel_draws_the_paper_mark_at_its_value():
+    from lem_tools import convergence_plots
+    from lem_tools.plotting import plt
+    level = {"L_n": 0.02, "mean": 0.4, "std": 0.01, "n": 3}
+    results = {("E_bare_over_E_unit", 0.28, None): {
+        "levels": [level, dict(level, L_n=0.01, mean=0.45)],
+        "fit": {"intercept": 0.5, "slope": -5.0}, "extrapolated_se": 0.01}}
+    fig, ax = plt.subplots()
+    convergence_plots.panel(ax, results, "E_bare_over_E_unit", "E", {}, {"phases": {
+        "E_p": 3.0, "E_m": 1.0}})
+    stars = [line for line in ax.get_lines() if line.get_marker() == "*"]
+    assert len(stars) == 1 and stars[0].get_label().startswith("paper")
+    assert stars[0].get_ydata()[0] == pytest.approx(1.6 / 3)
+    plt.close(fig)

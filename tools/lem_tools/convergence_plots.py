@@ -18,6 +18,21 @@ FIGURES = (("convergence_elastic", "elastic moduli (lem_tension)", "sample"),
             ("n_b", "n_b_without_bare_contacts", "share_broken_m", "share_broken_pm")))
 
 
+# The paper's effective moduli at rho^m = 0.28 (sect. 5, fig. 5), in units of
+# the matrix modulus E^[m]: bare contacts 1.6 E^[m], adhesive ones 2.5 E^[m].
+PAPER_MODULI_IN_E_M = {("E_bare_over_E_unit", 0.28): 1.6, ("E_adhesive_over_E_unit", 0.28): 2.5}
+
+
+def paper_marks(quantity, rhos, phases):
+    """[(rho, value)] of the paper's values for `quantity` at the matrix
+    fractions `rhos` of the figure, in units of E^[p]: the lattice is linear
+    in its bond stiffnesses, so E^[m]/E^[p] is the phases' E_m/E_p."""
+    e_m_over_e_p = phases.get("E_m", 1.0) / phases.get("E_p", 3.0)
+    return [(rho, PAPER_MODULI_IN_E_M[(q, r)] * e_m_over_e_p)
+            for (q, r) in PAPER_MODULI_IN_E_M if q == quantity
+            for rho in rhos if abs(rho - r) < 1e-9]
+
+
 def point_style(rhos, ratios, rho, ratio):
     color = plt.cm.viridis(np.linspace(0, 0.85, max(1, len(rhos))))[rhos.index(rho)]
     i = 0 if ratio is None else ratios.index(ratio)
@@ -52,6 +67,10 @@ def panel(ax, results, quantity, label, level_l_n, spec):
             shift = (i - (len(keys) - 1) / 2) * 0.012 * right
             ax.errorbar([shift], [fit["intercept"]], yerr=[se if math.isfinite(se) else 0.0],
                         fmt=marker, mfc="white", color=color, ms=6, capsize=3)
+    for rho, value in paper_marks(quantity, rhos, spec.get("phases", {})):
+        color, _, _ = point_style(rhos, ratios, rho, None)
+        ax.plot([-0.03 * right], [value], "*", color=color, mec="black", ms=11, zorder=5,
+                label=r"paper, $\rho^m$ = %.2f (sect. 5)" % rho)
     ax.set_xlim(-0.06 * right - 0.006 * right * len(keys), 1.06 * right)
     ax.axvline(0, color="0.8", lw=0.8, zorder=0)
     ax.set_xlabel(r"$L_n = M^{-1/3}$")
@@ -76,11 +95,16 @@ def figure(results, quantities, level_l_n, spec, title, path):
         panel(ax, results, quantity, label, level_l_n, spec)
     for ax in list(axes.flat)[len(shown):]:
         ax.set_visible(False)
-    handles, labels = axes.flat[0].get_legend_handles_labels()
+    # one legend entry per label over all panels (the paper's marks are on some)
+    entries = {}
+    for ax in axes.flat:
+        for handle, label in zip(*ax.get_legend_handles_labels()):
+            entries.setdefault(label, handle)
+    handles, labels = list(entries.values()), list(entries)
     fig.legend(handles, labels, loc="lower center", ncol=3, fontsize=8, frameon=False)
     fig.suptitle("%s against the mesh density (paper fig. 6 extended)\nmean ± standard deviation "
                  "of the replicates, linear fit; open symbols: value at $L_n \\to 0$ ± standard "
-                 "error" % title.capitalize(), fontsize=10)
+                 "error; stars: the paper's values" % title.capitalize(), fontsize=10)
     fig.tight_layout(rect=(0, 0.06 if rows > 1 else 0.1, 1, 0.97))
     save_figure(fig, path + ".png", also=(".pdf",), dpi=DPI)
     return path + ".png"
