@@ -25,4 +25,8 @@ int run_driver(int argc, char** argv, const char* help,
                const std::function<void(MPI_Comm)>& body,
                StopHandling stops = StopHandling::end_process);
 
+/// The largest peak resident set size of any rank of `comm` since its
+/// process started, in MB (getrusage).  Collective.
+double peak_memory_mb(MPI_Comm comm);
+
 }  // namespace lem

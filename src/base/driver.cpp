@@ -6,6 +6,7 @@
 #include "lem/stop.hpp"
 
 #include <petscsys.h>
+#include <sys/resource.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -76,6 +77,14 @@ int run_driver(int argc, char** argv, const char* help,
     }
   }
   return status;
+}
+
+double peak_memory_mb(MPI_Comm comm) {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  double mine = static_cast<double>(usage.ru_maxrss) / 1024.0, largest = mine;  // kB on Linux
+  MPI_Allreduce(&mine, &largest, 1, MPI_DOUBLE, MPI_MAX, comm);
+  return largest;
 }
 
 }  // namespace lem

@@ -85,8 +85,8 @@ std::string Summary::csv() const {
   std::ostringstream head, row;
   for (std::size_t k = 0; k < entries_.size(); ++k) {
     const char* sep = k ? "," : "";
-    head << sep << entries_[k].name;
-    if (!entries_[k].unit.empty()) head << '[' << entries_[k].unit << ']';
+    const std::string unit = entries_[k].unit.empty() ? "" : "[" + entries_[k].unit + "]";
+    head << sep << plain_cell(entries_[k].name + unit);
     row << sep << text(entries_[k].value, false);
   }
   return head.str() + "\n" + row.str() + "\n";

@@ -127,6 +127,51 @@ def test_work_split_takes_differences_of_the_cumulative_counts_at_the_peak():
                                         "rupture_steps": 1}
 
 
+def test_work_split_cuts_the_tail_at_the_first_equilibrium_below_the_fraction():
+    from lem_tools import work_split
+    # Peak at step 2 (stress 1.0); after it 0.5, 0.08 (the tail starts), 0.12 (still tail).
+    curve = {"strain": np.arange(1.0, 6) * 1e-4,
+             "stress_norm": np.array([0.6, 1.0, 0.5, 0.08, 0.12]),
+             "solves": np.array([1.0, 2, 5, 7, 8]), "iterations": np.array([10.0, 20, 50, 70, 80]),
+             "pc_builds": np.ones(5), "elapsed_s": np.arange(1.0, 6),
+             "broken": np.array([1.0, 2, 5, 6, 6])}
+    stages = work_split.split(curve, 2e-4, tail_fraction=0.1)
+    assert list(stages) == ["to the peak", "peak to 0.1 of it", "below 0.1 of the peak"]
+    assert stages["peak to 0.1 of it"]["iterations"] == 30
+    assert stages["below 0.1 of the peak"]["evaluated_steps"] == 2
+    assert stages["below 0.1 of the peak"]["iterations"] == 30
+    assert stages["below 0.1 of the peak"]["rupture_steps"] == 1
+
+
+def test_floor_charges_one_closing_solve_per_rupture_step_of_a_stage():
+    from lem_tools import work_split
+    # Peak at step 2.  After it: step 3 one batch, one solve (40 its); step 4
+    # three cycles, five solves (200 its); step 5 one batch, one solve (60
+    # its); step 6 no rupture (a solve of 10 its).  Closing solve: median of
+    # 40 and 60; 310 its in 31 s after the peak.
+    curve = {"strain": np.arange(1.0, 7) * 1e-4,
+             "stress_norm": np.array([0.5, 1.0, 0.9, 0.8, 0.7, 0.6]),
+             "cycles": np.array([1.0, 1, 1, 3, 1, 0]),
+             "solves": np.array([1.0, 2, 3, 8, 9, 10]),
+             "iterations": np.array([10.0, 30, 70, 270, 330, 340]),
+             "pc_builds": np.ones(6),
+             "elapsed_s": np.array([1.0, 3, 7, 27, 33, 34]),
+             "broken": np.array([1.0, 2, 4, 10, 11, 11])}
+    (_, before), (_, after) = work_split.stage_rows(curve, 2e-4)
+    f = work_split.floor(curve, after)
+    assert (f["rupture_steps"], f["one_solve_steps"]) == (3, 2)
+    assert f["closing_iterations"] == 50
+    assert f["seconds_per_iteration"] == pytest.approx(0.1)
+    assert f["floor_iterations"] == 150 and f["floor_seconds"] == pytest.approx(15)
+    assert f["iterations"] == 310
+    # Up to the peak: both steps broke one batch with one solve (10, 20 its).
+    g = work_split.floor(curve, before)
+    assert (g["rupture_steps"], g["closing_iterations"], g["floor_iterations"]) == (2, 15, 30)
+    # Without a step of one batch and one solve there is no estimate.
+    curve["cycles"][2] = curve["cycles"][4] = 2
+    assert work_split.floor(curve, after) is None
+
+
 def test_near_threshold_counts_post_peak_batches_that_hold_a_close_rupture():
     from lem_tools import work_split
     # Three batches after the peak strain 2e-4: (3, 0) has ratios 1.2 and

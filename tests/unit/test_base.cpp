@@ -8,10 +8,12 @@
 #include "lem/files.hpp"
 #include "lem/petsc_handle.hpp"
 #include "lem/phase.hpp"
+#include "lem/summary.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -211,6 +213,16 @@ TEST(Errors, ExitStatusFollowsTheType) {
   EXPECT_EQ(exit_status(std::runtime_error("x")), 3);
   EXPECT_EQ(exit_status(Interrupted("x")), 4);
   EXPECT_EQ(exit_status(HelpShown("x")), 0);
+}
+
+TEST(Summary, CsvHeaderKeepsOneColumnPerEntryWhateverTheUnitSays) {
+  Summary s;
+  s.add("peak_memory_mb", 12.5, "MB, largest rank");
+  s.add("note", std::string("a, b"));
+  const std::string csv = s.csv();
+  const std::string head = csv.substr(0, csv.find('\n'));
+  EXPECT_EQ(head, "peak_memory_mb[MB  largest rank],note");
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), ','), 2);
 }
 
 TEST(PetscHandles, DestroyTheirObjectAndMoveOwnership) {

@@ -15,6 +15,13 @@ threshold (force <= (1 + m) threshold) and the share of the batches (the
 ruptures of one relaxation cycle) that hold such a rupture: the batches
 that a local relaxation certified by a margin m must leave to a global
 solve (docs/fracture.md, "Relaxation schemes").
+
+With --floor it also prints, stage by stage, the least work that the rules
+of the protocol allow: every load step with ruptures ends on a global solve
+to -ksp_rtol, so it costs at least one such solve. Its size is taken from
+the stage's steps that broke one batch and needed one solve (the median of
+their iterations), its time from the stage's seconds per CG iteration
+(docs/performance.md, "The floor under the protocol's rules").
 """
 import os
 
@@ -25,27 +32,66 @@ from .errors import ToolError
 from .results import read_csv, read_json
 
 COUNTS = ("solves", "iterations", "pc_builds", "elapsed_s", "broken")
-COLUMNS = ("step", "strain", "stress_before_norm", *COUNTS)
+COLUMNS = ("step", "strain", "stress_before_norm", "stress_norm", "cycles", *COUNTS)
 
 
-def split(curve, strain_at_peak):
-    """{stage: counts} for the rows up to the peak strain and after it.
+def stage_rows(curve, strain_at_peak, tail_fraction=0.0):
+    """[(stage, boolean mask of its rows)]: up to the peak strain and after it.
 
-    `curve` maps the columns of COLUMNS to arrays (cumulative counts)."""
+    `curve` maps the columns of COLUMNS to arrays (cumulative counts).  With
+    tail_fraction f > 0 the rows after the peak are split again at the first
+    equilibrium whose stress is below f times the peak stress (the tail)."""
     after = curve["strain"] > strain_at_peak * (1 + 1e-9)
+    groups = [("to the peak", ~after), ("after the peak", after)]
+    if tail_fraction > 0:
+        peak_stress = curve["stress_norm"][~after].max() if (~after).any() else 0.0
+        low = after & (curve["stress_norm"] < tail_fraction * peak_stress)
+        tail = after & (np.cumsum(low) > 0)
+        groups = [groups[0], ("peak to %g of it" % tail_fraction, after & ~tail),
+                  ("below %g of the peak" % tail_fraction, tail)]
+    return [(name, rows) for name, rows in groups if rows.any()]
+
+
+def _deltas(curve, rows):
+    """Per-row increments of the cumulative counts over the rows of `rows`."""
+    index = np.flatnonzero(rows)
+    return {k: curve[k][index] - np.concatenate([[0.0], curve[k]])[index] for k in COUNTS}
+
+
+def split(curve, strain_at_peak, tail_fraction=0.0):
+    """{stage: counts} for the stages of stage_rows."""
     stages = {}
-    for name, rows in (("to the peak", ~after), ("after the peak", after)):
-        index = np.flatnonzero(rows)
-        if not len(index):
-            continue
-        first, last = index[0], index[-1]
-        before = {k: curve[k][first - 1] if first > 0 else 0.0 for k in COUNTS}
-        previous_broken = np.concatenate([[0.0], curve["broken"]])[index]
-        stage = {k: curve[k][last] - before[k] for k in COUNTS}
-        stage["evaluated_steps"] = len(index)
-        stage["rupture_steps"] = int(np.count_nonzero(curve["broken"][index] > previous_broken))
+    for name, rows in stage_rows(curve, strain_at_peak, tail_fraction):
+        delta = _deltas(curve, rows)
+        stage = {k: float(delta[k].sum()) for k in COUNTS}
+        stage["evaluated_steps"] = int(rows.sum())
+        stage["rupture_steps"] = int(np.count_nonzero(delta["broken"] > 0))
         stages[name] = stage
     return stages
+
+
+def floor(curve, rows):
+    """The least work of the rows `rows` under the protocol's rules, or None.
+
+    Every load step with ruptures ends on a global solve to -ksp_rtol; a
+    step that broke one batch with one solve is that solve alone, so the
+    median of their iterations is the cost of the closing solve.  Returns
+    {rupture_steps, one_solve_steps, closing_iterations, seconds_per_iteration,
+    iterations, seconds, floor_iterations, floor_seconds}: the actual counts
+    beside the floor; None without a one-solve step."""
+    delta = _deltas(curve, rows)
+    ruptured = delta["broken"] > 0
+    one_solve = ruptured & (curve["cycles"][rows] == 1) & (delta["solves"] == 1)
+    iterations = float(delta["iterations"].sum())
+    if not one_solve.any() or iterations <= 0:
+        return None
+    closing = float(np.median(delta["iterations"][one_solve]))
+    per_iteration = float(delta["elapsed_s"].sum()) / iterations
+    steps = int(ruptured.sum())
+    return {"rupture_steps": steps, "one_solve_steps": int(one_solve.sum()),
+            "closing_iterations": closing, "seconds_per_iteration": per_iteration,
+            "iterations": iterations, "seconds": float(delta["elapsed_s"].sum()),
+            "floor_iterations": steps * closing, "floor_seconds": steps * closing * per_iteration}
 
 
 def near_threshold(broken, strain_at_peak, margins):
@@ -78,9 +124,10 @@ def _output_file(folder, name):
                  if os.path.exists(os.path.join(folder, n))), None)
 
 
-def read_run(directory, margins=()):
-    """[(label, stages, near)] for the calibration (if any) and the sample of
-    a run; `near` is near_threshold's answer, or None without margins."""
+def read_run(directory, margins=(), tail_fraction=0.0):
+    """[(label, stages, near, least)] for the calibration (if any) and the
+    sample of a run; `near` is near_threshold's answer, or None without
+    margins; `least` maps each stage to floor's answer."""
     found = []
     for label, folder in (("calibration", os.path.join(directory, "calibration")),
                           ("sample", directory)):
@@ -102,20 +149,22 @@ def read_run(directory, margins=()):
             columns = ("step", "cycle", "strain", "force", "threshold")
             rows = read_csv(broken_path, columns)
             near = near_threshold({k: rows.numbers(k) for k in columns}, peak, margins)
-        found.append((label, split(curve, peak), near))
+        floors = {name: floor(curve, rows)
+                  for name, rows in stage_rows(curve, peak, tail_fraction)}
+        found.append((label, split(curve, peak, tail_fraction), near, floors))
     if not found:
         raise ToolError("%s: no curve.csv or curve.csv.part (not a lem_fracture output folder?)"
                         % directory)
     return found
 
 
-def table(directories, margins=()):
+def table(directories, margins=(), with_floor=False, tail_fraction=0.0):
     """The report as Markdown lines."""
-    runs = [(d, read_run(d, margins)) for d in directories]
+    runs = [(d, read_run(d, margins, tail_fraction)) for d in directories]
     lines = ["| run | stage | steps (with ruptures) | solves | CG its | its/solve | "
              "its per rupture step | PC builds | wall s |", "|---|---|---|---|---|---|---|---|---|"]
     for d, found in runs:
-        for label, stages, _ in found:
+        for label, stages, _, _ in found:
             for name, s in stages.items():
                 lines.append("| %s | %s, %s | %d (%d) | %d | %d | %.1f | %.0f | %d | %.1f |" % (
                     d, label, name, s["evaluated_steps"], s["rupture_steps"], s["solves"],
@@ -126,10 +175,27 @@ def table(directories, margins=()):
             "within %g: ruptures / batches" % m for m in margins) + " |",
             "|---|---|---|---|" + "---|" * len(margins)]
         for d, found in runs:
-            for label, _, (ruptures, batches, shares) in found:
-                lines.append("| %s | %s | %d | %d | %s |" % (d, label, ruptures, batches, " | ".join(
-                    "%.0f %% / %.0f %%" % (100 * shares[m][0], 100 * shares[m][1])
-                    for m in margins)))
+            for label, _, (ruptures, batches, shares), _ in found:
+                cells = " | ".join("%.0f %% / %.0f %%" % (100 * shares[m][0], 100 * shares[m][1])
+                                   for m in margins)
+                lines.append("| %s | %s | %d | %d | %s |" % (d, label, ruptures, batches, cells))
+    if with_floor:
+        lines += ["", "| run | stage | steps with ruptures | closing solve its (median of "
+                  "one-solve steps) | s per CG it | CG its: actual / floor | wall s: actual / "
+                  "floor |", "|---|---|---|---|---|---|---|"]
+        for d, found in runs:
+            for label, _, _, floors in found:
+                for name, f in floors.items():
+                    if f is None:
+                        lines.append("| %s | %s, %s | no step of one batch and one solve "
+                                     "| | | | |" % (d, label, name))
+                        continue
+                    lines.append("| %s | %s, %s | %d | %.0f (%d steps) | %.4f | %d / %d | "
+                                 "%.0f / %.0f |" % (
+                                     d, label, name, f["rupture_steps"], f["closing_iterations"],
+                                     f["one_solve_steps"], f["seconds_per_iteration"],
+                                     f["iterations"], f["floor_iterations"], f["seconds"],
+                                     f["floor_seconds"]))
     return lines
 
 
@@ -150,5 +216,11 @@ def main(argv=None):
     p.add_argument("--margins", default="",
                    help="comma-separated margins m (fractions of a threshold): also report the "
                         "post-peak ruptures and batches within m of a threshold")
+    p.add_argument("--floor", action="store_true",
+                   help="also report the least work per stage that the protocol's rules allow: "
+                        "one solve to -ksp_rtol per load step with ruptures")
+    p.add_argument("--tail", type=float, default=0.0, metavar="F",
+                   help="split the stage after the peak at the first equilibrium below F times "
+                        "the peak stress (e.g. 0.1)")
     return cli.run(p, lambda a: print("\n".join(
-        table(a.run_dirs, margin_list(a.margins) if a.margins else ()))), argv)
+        table(a.run_dirs, margin_list(a.margins) if a.margins else (), a.floor, a.tail))), argv)
