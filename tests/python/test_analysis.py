@@ -143,6 +143,15 @@ def test_work_split_cuts_the_tail_at_the_first_equilibrium_below_the_fraction():
     assert stages["below 0.1 of the peak"]["rupture_steps"] == 1
 
 
+def test_tail_must_be_a_fraction_below_one():
+    from lem_tools import work_split
+    from lem_tools.errors import ToolError
+    assert work_split.tail_fraction(0.1) == 0.1
+    for bad in (-0.1, 1.0, float("nan")):
+        with pytest.raises(ToolError, match="--tail"):
+            work_split.tail_fraction(bad)
+
+
 def test_floor_charges_one_closing_solve_per_rupture_step_of_a_stage():
     from lem_tools import work_split
     # Peak at step 2.  After it: step 3 one batch, one solve (40 its); step 4

@@ -210,6 +210,13 @@ def margin_list(text):
     return margins
 
 
+def tail_fraction(f):
+    """--tail F: a fraction of the peak stress in [0, 1) (0: no tail stage)."""
+    if not 0 <= f < 1:
+        raise ToolError("--tail %g: give a fraction of the peak stress in [0, 1), e.g. 0.1" % f)
+    return f
+
+
 def main(argv=None):
     p = cli.parser(__doc__)
     p.add_argument("run_dirs", metavar="RUN_DIR", nargs="+", help="lem_fracture -output_dir")
@@ -223,4 +230,5 @@ def main(argv=None):
                    help="split the stage after the peak at the first equilibrium below F times "
                         "the peak stress (e.g. 0.1)")
     return cli.run(p, lambda a: print("\n".join(
-        table(a.run_dirs, margin_list(a.margins) if a.margins else (), a.floor, a.tail))), argv)
+        table(a.run_dirs, margin_list(a.margins) if a.margins else (), a.floor,
+              tail_fraction(a.tail)))), argv)
