@@ -530,8 +530,8 @@ int main(int argc, char** argv) {
     s.add("warnings", warnings);
     s.add("resumed", static_cast<long long>(r.resumed));
     s.add("seconds", r.seconds, "s");
-    // Of this process: a resumed run reports its own peak, not the first part's.
-    s.add("peak_memory_mb", lem::peak_memory_mb(comm), "MB");  // the largest rank
+    // The largest rank, of this process: a resumed run reports its own part.
+    s.add("peak_memory_mb", lem::peak_memory_mb(comm), "MB");
     int ranks = 1;
     MPI_Comm_size(comm, &ranks);
     s.add("mpi_ranks", static_cast<long long>(ranks));

@@ -58,16 +58,19 @@ def _deltas(curve, rows):
     return {k: curve[k][index] - np.concatenate([[0.0], curve[k]])[index] for k in COUNTS}
 
 
+def counts(curve, rows):
+    """The counts of the rows `rows`: COUNTS, evaluated and rupture steps."""
+    delta = _deltas(curve, rows)
+    stage = {k: float(delta[k].sum()) for k in COUNTS}
+    stage["evaluated_steps"] = int(rows.sum())
+    stage["rupture_steps"] = int(np.count_nonzero(delta["broken"] > 0))
+    return stage
+
+
 def split(curve, strain_at_peak, tail_fraction=0.0):
     """{stage: counts} for the stages of stage_rows."""
-    stages = {}
-    for name, rows in stage_rows(curve, strain_at_peak, tail_fraction):
-        delta = _deltas(curve, rows)
-        stage = {k: float(delta[k].sum()) for k in COUNTS}
-        stage["evaluated_steps"] = int(rows.sum())
-        stage["rupture_steps"] = int(np.count_nonzero(delta["broken"] > 0))
-        stages[name] = stage
-    return stages
+    return {name: counts(curve, rows)
+            for name, rows in stage_rows(curve, strain_at_peak, tail_fraction)}
 
 
 def floor(curve, rows):
@@ -149,9 +152,9 @@ def read_run(directory, margins=(), tail_fraction=0.0):
             columns = ("step", "cycle", "strain", "force", "threshold")
             rows = read_csv(broken_path, columns)
             near = near_threshold({k: rows.numbers(k) for k in columns}, peak, margins)
-        floors = {name: floor(curve, rows)
-                  for name, rows in stage_rows(curve, peak, tail_fraction)}
-        found.append((label, split(curve, peak, tail_fraction), near, floors))
+        stages = stage_rows(curve, peak, tail_fraction)
+        found.append((label, {name: counts(curve, rows) for name, rows in stages}, near,
+                      {name: floor(curve, rows) for name, rows in stages}))
     if not found:
         raise ToolError("%s: no curve.csv or curve.csv.part (not a lem_fracture output folder?)"
                         % directory)
