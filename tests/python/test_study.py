@@ -174,11 +174,38 @@ def test_gather_writes_the_table_the_fit_and_the_figures(made_study, capsys):
     assert fit["eq10"]["k"] == pytest.approx(K_TRUE, rel=1e-5)
     assert fit["beta_by_rho_m"] == {"0.1300": pytest.approx(0.93), "0.2400": pytest.approx(1.04)}
     assert fit["complete_runs"] == 4 and fit["missing_runs"] == []
-    for name in ("strength.png", "damage.png", "stiffness_stress.png"):
-        with open(os.path.join(out, "figures", name), "rb") as f:
+    # one run per point: the figures show the runs, and eq. 10 is fitted to them
+    assert "each a single run" in fit["eq10_fitted_to"] and "beta_std_by_rho_m" not in fit
+    # no sample summary here: the bonds the study file asks for
+    assert fit["figures"] == {"sample_particles": 8, "bonds": 6000.0, "bonds_per_particle": 750.0,
+                              "L_n": pytest.approx(6000 ** (-1 / 3)),
+                              "bonds_from": "study file (sample.lattice_bonds)",
+                              "runs_per_point": [1, 1]}
+    for name in ("strength", "damage", "stiffness_stress"):
+        with open(os.path.join(out, "figures", name + ".png"), "rb") as f:
             assert f.read(8) == b"\x89PNG\r\n\x1a\n"
+        with open(os.path.join(out, "figures", name + ".pdf"), "rb") as f:
+            assert f.read(5) == b"%PDF-"
     assert sorted(os.listdir(out)) == ["figures", "fit.json", "results.csv", "runs", "study.json"]
     assert "gather: 4 runs" in capsys.readouterr().out
+
+
+def test_gather_takes_the_resolution_from_the_samples(made_study):
+    """lem_sample's bond count of the samples of the figures' runs, not
+    the one the study file asks for."""
+    os.makedirs(os.path.join(made_study.out, "samples"))
+    for rho, bonds in ((0.13, 6100), (0.24, 6300)):
+        with open(os.path.join(made_study.out, "samples", "rho_%.4f_summary.json" % rho),
+                  "w") as f:
+            json.dump({"bonds": bonds, "sample_particles": 8}, f)
+    for run in made_study.runs():
+        complete_run(made_study, run)
+    assert study.gather(made_study) == 0
+    with open(os.path.join(made_study.out, "fit.json")) as f:
+        figures = json.load(f)["figures"]
+    assert figures["bonds_from"] == "samples"
+    assert figures["bonds"] == 6200.0 and figures["bonds_per_particle"] == 775.0
+    assert figures["L_n"] == pytest.approx((6100 ** (-1 / 3) + 6300 ** (-1 / 3)) / 2)
 
 
 def test_gather_leaves_out_incomplete_runs(made_study, capsys):

@@ -6,8 +6,10 @@ Modules:
   files          the one atomic writer (temporary name, then rename)
   phases         the bond-phase names, in lem::Phase order
   results        the one reader of result files (CSV, JSON, HDF5)
-  analysis       tail exponent beta, eq. 10 fit, K_c^r, estimates (no plotting)
-  plotting       matplotlib set-up shared by the figure modules
+  analysis       tail exponent beta, eq. 10 fit, K_c^r, replicate means, estimates
+                 (no plotting)
+  paper          the paper's values that the figures mark, in their units
+  plotting       matplotlib set-up and the paper's star marks, shared by the figures
   cli            argparse set-up and error reporting shared by the commands
   plot_*         one figure command each
   study          study file, runs, status; the `study.py` command

@@ -6,6 +6,8 @@ import warnings
 
 import numpy as np
 
+from .convergence import replicate_stats
+
 RHO_FILLED = 0.28        # rho_f^m of eqs. 6-10 (paper: pores filled at 0.28)
 K_WEAKEST_LINK = 0.4     # eq. 13 frontier of fig. 15
 K_DAMAGE_LIMIT = 0.7     # eq. 14 frontier of fig. 15
@@ -130,6 +132,45 @@ def group_by_rho(rows):
     for group in groups.values():
         group.sort(key=lambda r: r["sigma_pm_ratio"])
     return dict(sorted(groups.items()))
+
+
+def replicate_means(rows, columns):
+    """One point per (rho^m, sigma^pm / sigma^p) of the runs `rows`, in
+    increasing order: each of `columns` the mean over the point's runs (its
+    replicates: the samples of other packing and lattice seeds), std[column]
+    their standard deviation (0 for a single run), `replicates` the number of
+    runs and `runs` their ids.  With one run per point, the points are the
+    runs' values."""
+    by_point = {}
+    for r in rows:
+        by_point.setdefault((r["rho_m"], r["sigma_pm_ratio"]), []).append(r)
+    points = []
+    for (rho, ratio), runs in sorted(by_point.items()):
+        point = {"rho_m": rho, "sigma_pm_ratio": ratio, "replicates": len(runs),
+                 "runs": [r["id"] for r in runs], "std": {}}
+        for column in columns:
+            stats = replicate_stats([r[column] for r in runs])
+            point[column] = stats["mean"]
+            point["std"][column] = stats["std"] if stats["n"] > 1 else 0.0
+        points.append(point)
+    return points
+
+
+def sample_means(rows):
+    """One point per rho^m of the runs `rows`, as replicate_means gives
+    them (sigma_pm_ratio None, `runs` the samples' lattice tags), over the
+    samples of that rho^m (one per lattice, the `lattice` of its runs): a
+    sample's first-step modulus is the mean over its runs, its beta that of
+    its run at the lowest sigma^pm (both of the first equilibrium, before
+    any bond but the bare contacts breaks)."""
+    samples = {}
+    for r in rows:
+        samples.setdefault((r["rho_m"], r.get("lattice")), []).append(r)
+    per_sample = [{"id": lattice, "rho_m": rho, "sigma_pm_ratio": None,
+                   "E_eff_over_E_unit": float(np.mean([r["E_eff_over_E_unit"] for r in runs])),
+                   "beta": min(runs, key=lambda r: r["sigma_pm_ratio"])["beta"]}
+                  for (rho, lattice), runs in samples.items()]
+    return replicate_means(per_sample, ("E_eff_over_E_unit", "beta"))
 
 
 def hashin_shtrikman(fraction, ratio, nu=0.25):

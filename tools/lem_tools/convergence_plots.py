@@ -7,7 +7,8 @@ import os
 
 import numpy as np
 
-from .plotting import plt, save_figure
+from .paper import paper_marks, paper_source
+from .plotting import paper_mark, plt, save_figure
 
 DPI = 100
 MARKERS = ("o", "s", "^", "D", "v", "P")
@@ -16,21 +17,6 @@ FIGURES = (("convergence_elastic", "elastic moduli (lem_tension)", "sample"),
             ("E_eff_over_E_unit", "sigma_eff_over_sigma_unit", "strain_at_peak", "beta")),
            ("convergence_damage", "damage after failure",
             ("n_b", "n_b_without_bare_contacts", "share_broken_m", "share_broken_pm")))
-
-
-# The paper's effective moduli at rho^m = 0.28 (sect. 5, fig. 5), in units of
-# the matrix modulus E^[m]: bare contacts 1.6 E^[m], adhesive ones 2.5 E^[m].
-PAPER_MODULI_IN_E_M = {("E_bare_over_E_unit", 0.28): 1.6, ("E_adhesive_over_E_unit", 0.28): 2.5}
-
-
-def paper_marks(quantity, rhos, phases):
-    """[(rho, value)] of the paper's values for `quantity` at the matrix
-    fractions `rhos` of the figure, in units of E^[p]: the lattice is linear
-    in its bond stiffnesses, so E^[m]/E^[p] is the phases' E_m/E_p."""
-    e_m_over_e_p = phases.get("E_m", 1.0) / phases.get("E_p", 3.0)
-    return [(rho, PAPER_MODULI_IN_E_M[(q, r)] * e_m_over_e_p)
-            for (q, r) in PAPER_MODULI_IN_E_M if q == quantity
-            for rho in rhos if abs(rho - r) < 1e-9]
 
 
 def point_style(rhos, ratios, rho, ratio):
@@ -69,8 +55,8 @@ def panel(ax, results, quantity, label, level_l_n, spec):
                         fmt=marker, mfc="white", color=color, ms=6, capsize=3)
     for rho, value in paper_marks(quantity, rhos, spec.get("phases", {})):
         color, _, _ = point_style(rhos, ratios, rho, None)
-        ax.plot([-0.03 * right], [value], "*", color=color, mec="black", ms=11, zorder=5,
-                label=r"paper, $\rho^m$ = %.2f (sect. 5)" % rho)
+        paper_mark(ax, [-0.03 * right], [value], r"paper, $\rho^m$ = %.2f (%s)"
+                   % (rho, paper_source(quantity)), color)
     ax.set_xlim(-0.06 * right - 0.006 * right * len(keys), 1.06 * right)
     ax.axvline(0, color="0.8", lw=0.8, zorder=0)
     ax.set_xlabel(r"$L_n = M^{-1/3}$")

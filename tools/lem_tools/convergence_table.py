@@ -273,14 +273,27 @@ def markdown(results, labels, study, level_l_n):
 
 
 def reference_lattice(study):
-    """The lattice whose runs the paper's figures (study_plots) are drawn
-    from in a study with axes: the first pack and lattice seeds at the
-    finest resolution that has fracture runs."""
+    """The lattice that sets where the paper's figures (study_plots) are
+    drawn in a study with axes: the first pack and lattice seeds at the
+    finest resolution that has fracture runs (figures_lattices adds its
+    replicates)."""
     first = study.lattices[0]
     chosen = [l for l in study.lattices if l["fracture"] and l["pack_seed"] == first["pack_seed"]
               and l["lattice_seed"] == first["lattice_seed"]]
     return max(chosen, key=lambda l: l["level"] if l["level"] is not None else 0) \
         if chosen else None
+
+
+def figures_lattices(study):
+    """The lattices whose runs the paper's figures and the fit of eq. 10 are
+    drawn from in a study with axes: reference_lattice first, then its
+    replicates (the other seeds at its size), whose mean and standard
+    deviation the figures show."""
+    reference = reference_lattice(study)
+    if reference is None:
+        return []
+    return [reference] + [l for l in study.lattices if l["fracture"] and l is not reference
+                          and l["level"] == reference["level"]]
 
 
 def write_convergence(study, run_rows, samples):

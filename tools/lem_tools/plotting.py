@@ -1,5 +1,6 @@
 """What every figure module shares: matplotlib without a display, phase
-colours, and saving a figure through the atomic writer."""
+colours, the star marks of the paper's values, and saving a figure through
+the atomic writer."""
 import os
 
 import matplotlib
@@ -15,6 +16,17 @@ OTHER_PHASE_COLOR = "0.4"
 
 def phase_color(phase):
     return PHASE_COLORS.get(phase, OTHER_PHASE_COLOR)
+
+
+# The paper's values (paper.paper_values) on every figure: a star edged in black.
+PAPER_MARK_STYLE = dict(marker="*", linestyle="none", markeredgecolor="black", markersize=12,
+                        zorder=5)
+
+
+def paper_mark(ax, x, y, label, color="gold"):
+    """The paper's values at abscissae `x` and ordinates `y` (sequences) as
+    stars, one legend entry `label` for them all; returns their Line2D."""
+    return ax.plot(x, y, color=color, label=label, **PAPER_MARK_STYLE)[0]
 
 
 def save_figure(fig, path, also=(), **savefig_args):

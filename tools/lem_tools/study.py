@@ -611,18 +611,23 @@ GATHER_DOC = """Table and figures of a parametric study (the gather step of stud
 Reads every complete run of the study (summary.json, curve.csv, stress.json)
 and writes, in the study's output folder:
   results.csv         one row per complete run
-  fit.json            A and k of the strength scaling (eq. 10), beta per rho^m
-  figures/strength.png        sigma_eff against sigma^pm (fig. 9) and the
+  fit.json            A and k of the strength scaling (eq. 10) and what they
+                      were fitted to, beta per rho^m, the resolution of the
+                      figures (particles, bonds per particle, L_n, runs per point)
+  figures/strength (.png, .pdf)  sigma_eff against sigma^pm (fig. 9) and the
                               collapse of eq. 10 (fig. 12)
-  figures/damage.png          n_b against strain (fig. 13), n_b after failure
+  figures/damage (.png, .pdf)    n_b against strain (fig. 13), n_b after failure
                               against sigma^pm (fig. 14), grey map of n_b over
                               (rho^m, sigma^pm) (fig. 15), n_b against K_c^r
                               of eq. 14 (fig. 16)
-  figures/stiffness_stress.png  E_eff against rho^m (fig. 5) and the tail
-                              exponent beta of the node stresses (fig. 8)
-A study with a bond axis or replicates (docs/convergence-study.md) draws
-these from one lattice (the first seeds at the finest size with fracture
-runs; fit.json names it) and adds:
+  figures/stiffness_stress (.png, .pdf)  E_eff against rho^m (fig. 5) and the
+                              tail exponent beta of the node stresses (fig. 8),
+                              with the paper's values as stars
+Each figure says its resolution in its subtitle.  A study with a bond axis
+or replicates (docs/convergence-study.md) draws these at one size, the
+finest with fracture runs: each point the mean over its replicates (the
+seeds at that size) with ±1 standard deviation as error bars, eq. 10 fitted
+to these means (fit.json: figures_lattices), and adds:
   samples.csv         one row per sample: lattice, L_n, calibration, E_eff and
                       nu of the elastic pulls
   convergence.csv     per quantity and grid point: the value extrapolated to

@@ -1,54 +1,136 @@
 """The figures of a parametric study (paper figs. 5, 8, 9, 12-16), drawn from
-the rows of results.csv (study_table.run_row) and the fit of eq. 10."""
+its grid points (analysis.replicate_means and sample_means of the rows of
+results.csv, study_table.run_row) and the fit of eq. 10: a point is a run's
+value, or with replicates (several packing and lattice seeds at the size
+the figures are drawn at) their mean with ±1 standard deviation as error
+bars.  The paper's values are stars (paper.paper_values) and the subtitle
+says the resolution (study_table.figures_resolution)."""
 import os
 
 import numpy as np
 
 from .analysis import (K_DAMAGE_LIMIT, K_WEAKEST_LINK, RHO_FILLED, eq10_abscissa,
                        eq14_frontier, group_by_rho)
-from .plotting import plt, save_figure
+from .paper import paper_values
+from .plotting import paper_mark, plt, save_figure
 
 DPI = 100
+# The columns of results.csv the figures show, averaged over the replicates.
+COLUMNS = ("E_eff_over_E_unit", "sigma_eff_over_sigma_unit", "sigma_eff_over_sigma_pm", "n_b",
+           "K_c_r_eq14")
+RHO = r"matrix fraction $\rho^m$"
+RATIO = r"interface strength $\sigma^{pm} / \sigma^p$"
+N_B = r"$n_b$ after failure (share of broken bonds in the particles)"
+E_P = r" $E^{[p]}$"
 
 
 def rho_colors(groups):
     return plt.cm.viridis(np.linspace(0, 0.9, len(groups)))
 
 
-def strength_figure(rows, fit, path):
-    groups = group_by_rho(rows)
-    fig, (a, b) = plt.subplots(1, 2, figsize=(12, 5))
-    for c, (rho, rs) in zip(rho_colors(groups), groups.items()):
-        x = [r["sigma_pm_ratio"] for r in rs]
-        a.plot(x, [r["sigma_eff_over_sigma_unit"] for r in rs], "o-", color=c,
-               label=r"$\rho^m$ = %.2f" % rho)
+def replicated(points):
+    return any(p["replicates"] > 1 for p in points)
+
+
+def values(ax, x, points, column, fmt, xcolumn=None, **style):
+    """`column` of `points` against `x`: with replicates the means and ±1
+    standard deviation as error bars (horizontal ones of `xcolumn` too),
+    else the single runs' values; returns the ErrorbarContainer."""
+    bars = replicated(points)
+    return ax.errorbar(x, [p[column] for p in points],
+                       yerr=[p["std"][column] for p in points] if bars else None,
+                       xerr=[p["std"][xcolumn] for p in points] if bars and xcolumn else None,
+                       fmt=fmt, capsize=3, ms=6, **style)
+
+
+def paper_stars(ax, quantity, phases, unit=""):
+    """The paper's values of `quantity` as stars with their legend entry
+    (what the paper states, and in `unit` what that is here); None if the
+    paper gives none."""
+    found = paper_values(quantity, phases)
+    if not found:
+        return None
+    label = "paper, %s: " % found[0][2] + ", ".join(
+        r"%s%s at $\rho^m$ = %.2f" % (stated, " = %.3f%s" % (value, unit) if unit else "", rho)
+        for rho, value, _, stated in found)
+    return paper_mark(ax, [f[0] for f in found], [f[1] for f in found], label)
+
+
+def thousands(value):
+    """An integer with its thousands set apart by a space: 1 250."""
+    return "{:,}".format(int(round(value))).replace(",", " ")
+
+
+def resolution_text(resolution):
+    """The figures' subtitle: sample particles, bonds per particle and L_n,
+    and how many samples each point is drawn from."""
+    parts = ["%s particles" % resolution["sample_particles"]]
+    per_particle = resolution.get("bonds_per_particle")
+    if per_particle:
+        parts.append("%s bonds per particle%s ($L_n$ = %.3f)" % (
+            thousands(float("%.3g" % per_particle)),
+            "" if resolution["bonds_from"] == "samples" else " asked", resolution["L_n"]))
+    low, high = resolution["runs_per_point"]
+    if high <= 1:
+        parts.append(r"one sample per $\rho^m$")
+    else:
+        parts.append(r"%s samples per $\rho^m$ (seeds): mean ± standard deviation"
+                     % (high if low == high else "%d–%d" % (low, high)))
+    return ", ".join(parts)
+
+
+def finish(fig, resolution):
+    """The subtitle, and the panels laid out below it."""
+    fig.suptitle(resolution_text(resolution), fontsize=11)
+    fig.tight_layout()  # leaves room for the subtitle
+    return fig
+
+
+def strength_figure(points, fit, resolution):
+    groups = group_by_rho(points)
+    ratios = sorted({p["sigma_pm_ratio"] for p in points})
+    fig, (a, b) = plt.subplots(1, 2, figsize=(12, 5.4))
+    if fit:
+        right = float(max(eq10_abscissa(list(groups), fit["k"])))
+        # the sigma^pm of a rho^m share its abscissa: with error bars, side by
+        # side over 3 % of the axis, so that the bars do not hide each other
+        step = 0.03 * right / max(1, len(ratios) - 1) if replicated(points) else 0.0
+    for color, (rho, ps) in zip(rho_colors(groups), groups.items()):
+        label = r"$\rho^m$ = %.2f" % rho
+        values(a, [p["sigma_pm_ratio"] for p in ps], ps, "sigma_eff_over_sigma_unit", "o-",
+               color=color, label=label)
         if fit:
-            g = eq10_abscissa(rho, fit["k"])
-            b.plot([g] * len(rs), [r["sigma_eff_over_sigma_pm"] for r in rs], "o", color=c)
-    a.set_xlabel(r"$\sigma^{pm} / \sigma^p$")
-    a.set_ylabel(r"$\sigma_{\rm eff} / \sigma^{[p]}$")
+            x = float(eq10_abscissa(rho, fit["k"]))
+            values(b, [x + (ratios.index(p["sigma_pm_ratio"]) - (len(ratios) - 1) / 2) * step
+                       for p in ps], ps, "sigma_eff_over_sigma_pm", "o", color=color, label=label)
+    a.set_xlabel(RATIO)
+    a.set_ylabel(r"tensile strength $\sigma_{\rm eff} / \sigma^{[p]}$")
     a.set_title("(a) tensile strength (paper fig. 9)")
     a.legend(fontsize=8)
     if fit:
-        gs = np.linspace(0, b.get_xlim()[1], 10)
+        gs = np.linspace(0, 1.05 * right, 10)
         b.plot(gs, fit["A"] * gs, "--", color="black",
-               label="eq. 10: A = %.3f, k = %.2f (paper 0.3, 2.5)" % (fit["A"], fit["k"]))
+               label="eq. 10 fitted: A = %.3f, k = %.2f (paper: 0.3, 2.5)" % (fit["A"], fit["k"]))
         b.legend(fontsize=8)
     b.set_xlabel(r"$\rho^m (2\rho^m_f - \rho^m) / (1 - k \rho^m)$,  $\rho^m_f$ = %.2f" % RHO_FILLED)
     b.set_ylabel(r"$\sigma_{\rm eff} / \sigma^{pm}$")
-    b.set_title("(b) scaling of eq. 10 (paper fig. 12)")
-    fig.tight_layout()
-    save_figure(fig, path, dpi=DPI)
+    title = "(b) scaling of eq. 10 (paper fig. 12)"
+    if not fit:
+        title += ": not fitted, needs two matrix fractions"
+    elif step:
+        title += r", $\sigma^{pm}$ rising to the right"
+    b.set_title(title)
+    return finish(fig, resolution)
 
 
-def damage_curve_picks(rows):
-    """Runs whose n_b curve panel (a) of the damage figure draws: the lowest
-    and highest sigma^pm at the largest rho^m, and the highest sigma^pm at the
-    smallest (fig. 13)."""
-    rhos = sorted({r["rho_m"] for r in rows})
-    ratios = sorted({r["sigma_pm_ratio"] for r in rows})
+def damage_curve_picks(points):
+    """Points whose n_b curves panel (a) of the damage figure draws: the
+    lowest and highest sigma^pm at the largest rho^m, and the highest
+    sigma^pm at the smallest (fig. 13)."""
+    rhos = sorted({p["rho_m"] for p in points})
+    ratios = sorted({p["sigma_pm_ratio"] for p in points})
     picks = {(rhos[-1], ratios[0]), (rhos[-1], ratios[-1]), (rhos[0], ratios[-1])}
-    return [r for r in rows if (r["rho_m"], r["sigma_pm_ratio"]) in picks]
+    return [p for p in points if (p["rho_m"], p["sigma_pm_ratio"]) in picks]
 
 
 def edges(values):
@@ -60,74 +142,107 @@ def edges(values):
     return np.concatenate([[2 * v[0] - mid[0]], mid, [2 * v[-1] - mid[-1]]])
 
 
-def damage_figure(rows, curves, phases, path):
-    """`curves`: {run id: curve (results.read_curve)} of damage_curve_picks(rows)."""
-    groups = group_by_rho(rows)
+def damage_curves(ax, points, curves, colors):
+    """Panel (a): n_b against the strain of damage_curve_picks, one colour
+    per rho^m, dashed with markers and on top at the lowest sigma^pm (its
+    n_b stays near 0, where the others start); with replicates the first
+    seeds' run thick and the others thin."""
+    low = min(p["sigma_pm_ratio"] for p in points)
+    for p in damage_curve_picks(points):
+        style = dict(ls="--", marker="v", markevery=0.1, zorder=3) \
+            if p["sigma_pm_ratio"] == low else dict(ls="-")
+        for i, run_id in enumerate(p["runs"]):
+            curve = curves[run_id]
+            ax.plot(curve["strain"] * 1e3, curve["n_b"], color=colors[p["rho_m"]],
+                    lw=2 if i == 0 else 0.8, alpha=1 if i == 0 else 0.6, **style,
+                    label=None if i else r"$\rho^m$ = %.2f, $\sigma^{pm}/\sigma^p$ = %.2f"
+                    % (p["rho_m"], p["sigma_pm_ratio"]))
+    ax.set_xlabel(r"strain $\varepsilon_{zz}$ ($10^{-3}$)")
+    ax.set_ylabel(r"$n_b$ (share of broken bonds in the particles)")
+    ax.set_title("(a) particle damage against strain (paper fig. 13)")
+    ax.legend(fontsize=8, title="thick: first seeds, thin: the other samples"
+              if replicated(points) else None, title_fontsize=8)
+
+
+def damage_figure(points, samples, curves, phases, resolution):
+    """`curves`: {run id: curve (results.read_curve)} of the runs of
+    damage_curve_picks(points); `samples`: analysis.sample_means (the
+    moduli of eq. 14's frontier)."""
+    groups = group_by_rho(points)
     rhos = list(groups)
-    ratios = sorted({r["sigma_pm_ratio"] for r in rows})
-    colors = rho_colors(groups)
-    fig, axes = plt.subplots(2, 2, figsize=(12, 9.5))
+    ratios = sorted({p["sigma_pm_ratio"] for p in points})
+    colors = dict(zip(rhos, rho_colors(groups)))
+    fig, axes = plt.subplots(2, 2, figsize=(12, 10))
     (a, b), (c, d) = axes
-    for r in damage_curve_picks(rows):
-        curve = curves[r["id"]]
-        a.plot(curve["strain"] * 1e3, curve["n_b"],
-               label=r"$\rho^m$ = %.2f, $\sigma^{pm}/\sigma^p$ = %.2f"
-               % (r["rho_m"], r["sigma_pm_ratio"]))
-    a.set_xlabel(r"$\varepsilon_{zz}$ ($\times 10^{-3}$)")
-    a.set_ylabel(r"$n_b$")
-    a.set_title("(a) particle damage against strain (paper fig. 13)")
-    a.legend(fontsize=8)
-    for col, (rho, rs) in zip(colors, groups.items()):
-        b.plot([r["sigma_pm_ratio"] for r in rs], [r["n_b"] for r in rs], "o-", color=col,
-               label=r"$\rho^m$ = %.2f" % rho)
-        d.plot([r["K_c_r_eq14"] for r in rs], [r["n_b"] for r in rs], "o", color=col,
-               label=r"$\rho^m$ = %.2f" % rho)
-    b.set_xlabel(r"$\sigma^{pm} / \sigma^p$")
-    b.set_ylabel(r"$n_b$ after failure")
-    b.set_title("(b) paper fig. 14")
+    damage_curves(a, points, curves, colors)
+    for rho, ps in groups.items():
+        label = r"$\rho^m$ = %.2f" % rho
+        values(b, [p["sigma_pm_ratio"] for p in ps], ps, "n_b", "o-", color=colors[rho],
+               label=label)
+        values(d, [p["K_c_r_eq14"] for p in ps], ps, "n_b", "o", xcolumn="K_c_r_eq14",
+               color=colors[rho], label=label)
+    b.set_xlabel(RATIO)
+    b.set_ylabel(N_B)
+    b.set_title(r"(b) damage against $\sigma^{pm}$ (paper fig. 14)")
     b.legend(fontsize=8)
     # (c) grey map over the grid, with the frontiers of eqs. 13 and 14.
     grid = np.full((len(ratios), len(rhos)), np.nan)
-    for r in rows:
-        grid[ratios.index(r["sigma_pm_ratio"]), rhos.index(r["rho_m"])] = r["n_b"]
-    shown = c.pcolormesh(edges(rhos), edges(ratios), grid, cmap="Greys", shading="flat")
-    fig.colorbar(shown, ax=c, label=r"$n_b$")
+    for p in points:
+        grid[ratios.index(p["sigma_pm_ratio"]), rhos.index(p["rho_m"])] = p["n_b"]
+    greys = plt.get_cmap("Greys").copy()
+    greys.set_bad("mistyrose")  # a point without a run, unlike n_b = 0 (white)
+    shown = c.pcolormesh(edges(rhos), edges(ratios), grid, cmap=greys, shading="flat", vmin=0)
+    fig.colorbar(shown, ax=c, label=r"$n_b$ after failure")
     c.axhline(K_WEAKEST_LINK, ls="--", color="tab:red", label="eq. 13, $K_c^r$ = %.1f"
               % K_WEAKEST_LINK)
-    e_of_rho = [np.mean([r["E_eff_over_E_unit"] for r in groups[rho]]) for rho in rhos]
-    c.plot(rhos, [eq14_frontier(e, phases) for e in e_of_rho], ":", color="tab:blue", lw=2,
-           label="eq. 14, $K_c^r$ = %.1f" % K_DAMAGE_LIMIT)
+    e_of_rho = {p["rho_m"]: p["E_eff_over_E_unit"] for p in samples}
+    c.plot(rhos, [eq14_frontier(e_of_rho[rho], phases) for rho in rhos], ":", color="tab:blue",
+           lw=2, label="eq. 14, $K_c^r$ = %.1f" % K_DAMAGE_LIMIT)
     c.set_ylim(edges(ratios)[0], edges(ratios)[-1])
-    c.set_xlabel(r"$\rho^m$")
-    c.set_ylabel(r"$\sigma^{pm} / \sigma^p$")
-    c.set_title("(c) paper fig. 15")
-    c.legend(fontsize=8, loc="upper left")
-    d.axvline(K_DAMAGE_LIMIT, ls=":", color="tab:blue")
-    d.set_xlabel(r"$K_c^r$ (eq. 14)")
-    d.set_ylabel(r"$n_b$ after failure")
-    d.set_title("(d) paper fig. 16")
-    fig.tight_layout()
-    save_figure(fig, path, dpi=DPI)
+    c.set_xlabel(RHO)
+    c.set_ylabel(RATIO)
+    c.set_title(r"(c) $n_b$ over the grid (paper fig. 15)")
+    c.legend(fontsize=8, loc="best", framealpha=0.9)
+    d.axvline(K_DAMAGE_LIMIT, ls=":", color="tab:blue", label="eq. 14, $K_c^r$ = %.1f"
+              % K_DAMAGE_LIMIT)
+    d.set_xlabel(r"$K_c^r$ of eq. 14")
+    d.set_ylabel(N_B)
+    d.set_title(r"(d) damage against $K_c^r$ (paper fig. 16)")
+    d.legend(fontsize=8)
+    return finish(fig, resolution)
 
 
-def stiffness_stress_figure(rows, path):
-    groups = group_by_rho(rows)
-    rhos = list(groups)
-    fig, (a, b) = plt.subplots(1, 2, figsize=(11, 4.5))
-    a.plot(rhos, [np.mean([r["E_eff_over_E_unit"] for r in groups[x]]) for x in rhos], "o-")
-    a.set_xlabel(r"$\rho^m$")
-    a.set_ylabel(r"$E_{\rm eff} / E^{[p]}$")
+def stiffness_stress_figure(samples, phases, resolution):
+    """`samples`: analysis.sample_means (one point per rho^m)."""
+    rhos = [p["rho_m"] for p in samples]
+    fig, (a, b) = plt.subplots(1, 2, figsize=(12, 5.4))
+    values(a, rhos, samples, "E_eff_over_E_unit", "o-", color="tab:blue",
+           label="first step of lem_fracture (bare contacts open)")
+    paper_stars(a, "E_eff_over_E_unit", phases, E_P)
+    a.set_xlabel(RHO)
+    a.set_ylabel(r"effective modulus $E_{\rm eff} / E^{[p]}$")
     a.set_title("(a) effective modulus, bare contacts (paper fig. 5)")
-    b.plot(rhos, [groups[x][0]["beta"] for x in rhos], "s-")
-    b.set_xlabel(r"$\rho^m$")
+    a.legend(fontsize=8)
+    values(b, rhos, samples, "beta", "s-", color="tab:blue",
+           label=r"$P(s) \propto e^{-\beta s}$ above $s$ = 1, $s = \sigma^i_{zz}/\sigma_{zz}$")
+    paper_stars(b, "beta", phases)
+    b.set_xlabel(RHO)
     b.set_ylabel(r"tail exponent $\beta$ of eq. 2")
-    b.set_title(r"(b) node-stress pdf tail (paper: 0.7 $\to$ 2.1 for 0.06 $\to$ 0.28)")
-    fig.tight_layout()
-    save_figure(fig, path, dpi=DPI)
+    b.set_title("(b) node-stress pdf tail (paper fig. 8)")
+    b.legend(fontsize=8)
+    return finish(fig, resolution)
 
 
-def draw_all(rows, fit, curves, phases, folder):
+def draw_all(points, samples, fit, curves, phases, resolution, folder):
+    """figures/strength, damage and stiffness_stress (.png and .pdf) of the
+    grid points `points` (analysis.replicate_means of COLUMNS) and
+    `samples` (analysis.sample_means); returns the PNG paths."""
     os.makedirs(folder, exist_ok=True)
-    strength_figure(rows, fit, os.path.join(folder, "strength.png"))
-    damage_figure(rows, curves, phases, os.path.join(folder, "damage.png"))
-    stiffness_stress_figure(rows, os.path.join(folder, "stiffness_stress.png"))
+    figures = {"strength": strength_figure(points, fit, resolution),
+               "damage": damage_figure(points, samples, curves, phases, resolution),
+               "stiffness_stress": stiffness_stress_figure(samples, phases, resolution)}
+    paths = []
+    for name, fig in figures.items():
+        paths.append(os.path.join(folder, name + ".png"))
+        save_figure(fig, paths[-1], also=(".pdf",), dpi=DPI)
+    return paths

@@ -5,12 +5,16 @@ axis or replicates also the convergence tables and figures
 import csv
 import os
 
+import numpy as np
+
 from . import convergence_table, study_plots
-from .analysis import fit_eq10, group_by_rho, k_c_r_eq14, share_without_bare_contacts
+from .analysis import (fit_eq10, k_c_r_eq14, replicate_means, sample_means,
+                       share_without_bare_contacts)
+from .convergence_table import number, optional_json
 from .files import atomic_open, write_json
 from .phases import BREAKABLE, broken_column
 from .results import STUDY_COLUMNS, read_curve, read_stress_beta, read_summary
-from .study_axes import has_axes
+from .study_axes import DEFAULT_SAMPLE_PARTICLES, has_axes, is_number
 
 
 def run_row(run, summary, phases, beta):
@@ -62,6 +66,28 @@ def write_table(path, rows, columns=STUDY_COLUMNS):
             writer.writerow(r)
 
 
+def figures_resolution(study, shown, points):
+    """What the paper's figures are drawn at (fit.json "figures", their
+    subtitle): the samples' particles (sample_particles), bonds M as
+    lem_sample counted them (else the study's sample.lattice_bonds, as
+    asked), bonds per particle, L_n = M^(-1/3) (means over the samples of
+    the runs `shown`) and the least and most runs per grid point."""
+    sample = study.spec["sample"]
+    stems = sorted({study.sample_stem(study.lattice_of(r), r["rho_m"]) for r in shown})
+    bonds = [number(optional_json(os.path.join(study.out, "samples", stem + "_summary.json")),
+                    "bonds") for stem in stems]
+    bonds, source = [b for b in bonds if b > 0], "samples"   # NaN where not there
+    if not bonds and is_number(sample.get("lattice_bonds")):
+        bonds, source = [float(sample["lattice_bonds"])], "study file (sample.lattice_bonds)"
+    particles = sample.get("sample_particles", DEFAULT_SAMPLE_PARTICLES)
+    runs = [p["replicates"] for p in points]
+    return {"sample_particles": particles,
+            "bonds": float(np.mean(bonds)) if bonds else None,
+            "bonds_per_particle": float(np.mean(bonds)) / particles if bonds else None,
+            "L_n": float(np.mean(np.power(bonds, -1 / 3))) if bonds else None,
+            "bonds_from": source if bonds else None, "runs_per_point": [min(runs), max(runs)]}
+
+
 def gather(study):
     """Write results.csv, fit.json and figures/ of `study` (a study.Study);
     exit status 1 when a run is left out or none is complete."""
@@ -75,27 +101,39 @@ def gather(study):
         return 1
     table = os.path.join(study.out, "results.csv")
     write_table(table, rows, STUDY_COLUMNS + (convergence_table.RUN_AXIS_COLUMNS if axes else ()))
-    # The paper's figures and eq. 10: of one lattice if the study has several.
-    reference = convergence_table.reference_lattice(study) if axes else None
-    shown = [r for r in rows if reference is None or r["lattice"] == reference["tag"]]
-    fit = fit_eq10([r["rho_m"] for r in shown], [r["sigma_eff_over_sigma_pm"] for r in shown])
-    betas = {"%.4f" % rho: rs[0]["beta"] for rho, rs in group_by_rho(shown).items()}
-    record = {"eq10": fit, "beta_by_rho_m": betas, "complete_runs": len(rows),
-              "missing_runs": [m[0] for m in missing]}
+    # The paper's figures and eq. 10: of one size if the study has several,
+    # the mean over its replicates at each grid point.
+    lattices = convergence_table.figures_lattices(study) if axes else []
+    tags = [l["tag"] for l in lattices]
+    shown = [r for r in rows if not axes or r["lattice"] in tags]
+    points = replicate_means(shown, study_plots.COLUMNS)
+    by_rho = sample_means(shown)
+    fit = fit_eq10([p["rho_m"] for p in points], [p["sigma_eff_over_sigma_pm"] for p in points])
+    record = {"eq10": fit,
+              "eq10_fitted_to": "sigma_eff/sigma^pm of the %d grid points of the figures, %s"
+              % (len(points), "each the mean over its replicates" if study_plots.replicated(points)
+                 else "each a single run"),
+              "beta_by_rho_m": {"%.4f" % p["rho_m"]: p["beta"] for p in by_rho},
+              "complete_runs": len(rows), "missing_runs": [m[0] for m in missing]}
+    if study_plots.replicated(by_rho):
+        record["beta_std_by_rho_m"] = {"%.4f" % p["rho_m"]: p["std"]["beta"] for p in by_rho}
     if axes:
-        record["figures_lattice"] = reference["tag"] if reference else None
+        record["figures_lattice"] = tags[0] if tags else None
+        record["figures_lattices"] = tags
+    resolution = figures_resolution(study, shown, points) if shown else None
+    record["figures"] = resolution
     write_json(os.path.join(study.out, "fit.json"), record)
     if shown:
-        curves = {r["id"]: read_curve(os.path.join(study.run_dir(r), "curve.csv"))
-                  for r in study_plots.damage_curve_picks(shown)}
-        study_plots.draw_all(shown, fit, curves, study.spec["phases"],
+        curves = {run_id: read_curve(os.path.join(study.run_dir({"id": run_id}), "curve.csv"))
+                  for p in study_plots.damage_curve_picks(points) for run_id in p["runs"]}
+        study_plots.draw_all(points, by_rho, fit, curves, study.spec["phases"], resolution,
                              os.path.join(study.out, "figures"))
     print("gather: %d runs -> %s, fit.json, figures/ (eq. 10: %s)"
           % (len(rows), table, "A = %.3f, k = %.2f" % (fit["A"], fit["k"]) if fit
              else "not fitted: needs two matrix fractions"))
     if axes:
-        points = convergence_table.write_convergence(study, rows, samples)
+        extrapolated = convergence_table.write_convergence(study, rows, samples)
         print("gather: %d samples -> samples.csv; %d quantity x grid points -> "
               "convergence.csv, convergence_levels.csv, convergence.md, "
-              "figures/convergence_*.png" % (len(samples), len(points)))
+              "figures/convergence_*.png" % (len(samples), len(extrapolated)))
     return 1 if missing else 0
