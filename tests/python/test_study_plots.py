@@ -4,6 +4,7 @@ plotted, the resolution in the subtitle, and the gather step drawing them
 and fitting eq. 10 to what it draws."""
 import json
 import os
+import shutil
 
 import numpy as np
 import pytest
@@ -289,3 +290,21 @@ def test_gather_draws_and_fits_the_replicate_means(tmp_path, monkeypatch, close_
         assert os.path.getsize(os.path.join(s.out, "figures", name + ".pdf")) > 0
     # damage (a): the picked points' curves of every replicate
     assert len(saved["damage.png"].axes[0].get_lines()) == 3 * 3
+
+
+def test_gather_before_the_finest_runs_draws_the_finest_complete_size(tmp_path):
+    """A gather while the finest size's runs are still to come (a study cut
+    short, or still running) draws the paper's figures at the finest size
+    that has complete runs, not nothing."""
+    s = replicated_study(tmp_path)
+    for run in s.runs():
+        if s.lattice_of(run)["level"] == 1250:
+            shutil.rmtree(s.run_dir(run))
+    assert study.gather(s) == 1                     # the 1250 runs are missing
+    with open(os.path.join(s.out, "fit.json")) as f:
+        fit = json.load(f)
+    assert fit["figures_lattices"] == ["bpp600_p1", "bpp600_p2", "bpp600_p3"]
+    assert fit["figures"]["bonds_per_particle"] == pytest.approx(
+        np.mean([b * 600 // 1250 for b in BONDS.values()]) / 64)
+    assert fit["eq10"] is not None
+    assert os.path.getsize(os.path.join(s.out, "figures", "strength.png")) > 0

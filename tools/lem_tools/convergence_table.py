@@ -272,28 +272,35 @@ def markdown(results, labels, study, level_l_n):
     return "\n".join(lines)
 
 
-def reference_lattice(study):
+def reference_lattice(study, complete=None):
     """The lattice that sets where the paper's figures (study_plots) are
     drawn in a study with axes: the first pack and lattice seeds at the
     finest resolution that has fracture runs (figures_lattices adds its
-    replicates)."""
+    replicates).  `complete`: the tags of the lattices with complete runs,
+    when only those count (a gather before the finest runs are done)."""
     first = study.lattices[0]
-    chosen = [l for l in study.lattices if l["fracture"] and l["pack_seed"] == first["pack_seed"]
+    chosen = [l for l in fracture_lattices(study, complete) if l["pack_seed"] == first["pack_seed"]
               and l["lattice_seed"] == first["lattice_seed"]]
     return max(chosen, key=lambda l: l["level"] if l["level"] is not None else 0) \
         if chosen else None
 
 
-def figures_lattices(study):
+def fracture_lattices(study, complete=None):
+    """The lattices of `study` with fracture runs (of those in `complete`,
+    if given)."""
+    return [l for l in study.lattices if l["fracture"] and (complete is None or l["tag"] in complete)]
+
+
+def figures_lattices(study, complete=None):
     """The lattices whose runs the paper's figures and the fit of eq. 10 are
     drawn from in a study with axes: reference_lattice first, then its
     replicates (the other seeds at its size), whose mean and standard
     deviation the figures show."""
-    reference = reference_lattice(study)
+    reference = reference_lattice(study, complete)
     if reference is None:
         return []
-    return [reference] + [l for l in study.lattices if l["fracture"] and l is not reference
-                          and l["level"] == reference["level"]]
+    return [reference] + [l for l in fracture_lattices(study, complete)
+                          if l is not reference and l["level"] == reference["level"]]
 
 
 def write_convergence(study, run_rows, samples):

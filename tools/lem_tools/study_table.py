@@ -101,9 +101,12 @@ def gather(study):
         return 1
     table = os.path.join(study.out, "results.csv")
     write_table(table, rows, STUDY_COLUMNS + (convergence_table.RUN_AXIS_COLUMNS if axes else ()))
-    # The paper's figures and eq. 10: of one size if the study has several,
-    # the mean over its replicates at each grid point.
-    lattices = convergence_table.figures_lattices(study) if axes else []
+    # The paper's figures and eq. 10: of one size if the study has several
+    # (the finest with complete runs, so that a gather before the finest runs
+    # are done draws a coarser size rather than nothing), the mean over its
+    # replicates at each grid point.
+    lattices = convergence_table.figures_lattices(study, {r["lattice"] for r in rows}) \
+        if axes else []
     tags = [l["tag"] for l in lattices]
     shown = [r for r in rows if not axes or r["lattice"] in tags]
     points = replicate_means(shown, study_plots.COLUMNS)
