@@ -127,7 +127,8 @@ def gather(study):
     record["figures"] = resolution
     write_json(os.path.join(study.out, "fit.json"), record)
     if shown:
-        curves = {run_id: read_curve(os.path.join(study.run_dir({"id": run_id}), "curve.csv"))
+        by_id = {r["id"]: r for r in shown}
+        curves = {run_id: read_curve(os.path.join(study.run_dir(by_id[run_id]), "curve.csv"))
                   for p in study_plots.damage_curve_picks(points) for run_id in p["runs"]}
         study_plots.draw_all(points, by_rho, fit, curves, study.spec["phases"], resolution,
                              os.path.join(study.out, "figures"))
