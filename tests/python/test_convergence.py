@@ -387,3 +387,21 @@ def test_the_convergence_panel_draws_the_paper_mark_at_its_value():
     assert len(stars) == 1 and stars[0].get_label().startswith("paper")
     assert stars[0].get_ydata()[0] == pytest.approx(1.6 / 3)
     plt.close(fig)
+
+
+def test_the_convergence_figure_title_names_particles_and_samples(tmp_path, monkeypatch):
+    from lem_tools import convergence_plots
+    titles = []
+    monkeypatch.setattr(convergence_plots, "save_figure",
+                        lambda fig, path, **kw: titles.append(fig._suptitle.get_text()))
+    level = {"L_n": 0.02, "mean": 0.4, "std": 0.01, "n": 1}
+    results = {("beta", 0.28, 1.0): {"levels": [level, dict(level, L_n=0.01, n=3)],
+                                     "fit": None, "extrapolated_se": float("nan")},
+               ("n_b", 0.28, 1.0): {"levels": [dict(level, n=2)], "fit": None,
+                                    "extrapolated_se": float("nan")}}
+    convergence_plots.figure(results, [("beta", "beta")], {}, {}, "strength",
+                             str(tmp_path / "f"), 516)
+    assert "516 particles, 1–3 samples per point" in titles[0]
+    assert convergence_plots.samples_text(results, ["n_b"]) == "2 samples per point"
+    single = {("beta", 0.28, 1.0): {"levels": [level]}}
+    assert convergence_plots.samples_text(single, ["beta"]) == "one sample per point"

@@ -70,7 +70,17 @@ def panel(ax, results, quantity, label, level_l_n, spec):
         top.set_xlabel("bonds per particle" if per_particle else "bonds", fontsize=8)
 
 
-def figure(results, quantities, level_l_n, spec, title, path):
+def samples_text(results, shown):
+    """How many samples (packing and lattice seeds) each point of the shown
+    quantities is the mean of: "one sample", "3 samples", "1–9 samples"."""
+    counts = [e["n"] for k, r in results.items() if k[0] in shown for e in r["levels"]]
+    low, high = min(counts), max(counts)
+    if high <= 1:
+        return "one sample per point"
+    return "%s samples per point" % (high if low == high else "%d–%d" % (low, high))
+
+
+def figure(results, quantities, level_l_n, spec, title, path, particles):
     shown = [(q, label) for q, label, *_ in quantities if any(k[0] == q for k in results)]
     if not shown:
         return None
@@ -88,25 +98,28 @@ def figure(results, quantities, level_l_n, spec, title, path):
             entries.setdefault(label, handle)
     handles, labels = list(entries.values()), list(entries)
     fig.legend(handles, labels, loc="lower center", ncol=3, fontsize=8, frameon=False)
-    fig.suptitle("%s against the mesh density (paper fig. 6 extended)\nmean ± standard deviation "
-                 "of the replicates, linear fit; open symbols: value at $L_n \\to 0$ ± standard "
-                 "error; stars: the paper's values" % title.capitalize(), fontsize=10)
+    fig.suptitle("%s against the mesh density (paper fig. 6 extended), %s particles, %s\n"
+                 "mean ± standard deviation of the replicates, linear fit; open symbols: value "
+                 "at $L_n \\to 0$ ± standard error; stars: the paper's values"
+                 % (title.capitalize(), particles, samples_text(results, [q for q, _ in shown])),
+                 fontsize=10)
     fig.tight_layout(rect=(0, 0.06 if rows > 1 else 0.1, 1, 0.97))
     save_figure(fig, path + ".png", also=(".pdf",), dpi=DPI)
     return path + ".png"
 
 
-def draw_all(results, sample_quantities, run_quantities, level_l_n, spec, folder):
+def draw_all(results, sample_quantities, run_quantities, level_l_n, spec, particles, folder):
     """figures/convergence_elastic, _strength and _damage (.png and .pdf) of
-    the analysed points (convergence_table.analyse); the figures whose
-    quantities were not measured are not drawn."""
+    the analysed points (convergence_table.analyse) of samples of `particles`
+    particles; the figures whose quantities were not measured are not drawn."""
     os.makedirs(folder, exist_ok=True)
     run_labels = {q: label for q, label, _ in run_quantities}
     drawn = []
     for name, title, chosen in FIGURES:
         quantities = sample_quantities if chosen == "sample" else \
             [(q, run_labels[q]) for q in chosen]
-        path = figure(results, quantities, level_l_n, spec, title, os.path.join(folder, name))
+        path = figure(results, quantities, level_l_n, spec, title, os.path.join(folder, name),
+                      particles)
         if path:
             drawn.append(path)
     return drawn

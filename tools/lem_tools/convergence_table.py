@@ -323,5 +323,5 @@ def write_convergence(study, run_rows, samples):
     with atomic_open(os.path.join(study.out, "convergence.md")) as f:
         f.write(markdown(results, SAMPLE_QUANTITIES + RUN_QUANTITIES, study, level_l_n))
     convergence_plots.draw_all(results, SAMPLE_QUANTITIES, RUN_QUANTITIES, level_l_n,
-                               study.spec, os.path.join(study.out, "figures"))
+                               study.spec, particles, os.path.join(study.out, "figures"))
     return points
