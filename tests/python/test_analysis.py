@@ -91,7 +91,7 @@ def test_node_stress_statistics_of_a_uniform_field():
     stress = np.zeros((len(coords), 6))
     stress[:, analysis.ZZ] = 2.0
     stress[:3] = 0.0  # unbonded nodes carry no stress
-    statistics, s, loaded = analysis.node_stress_statistics(
+    statistics, s, loaded, on_face = analysis.node_stress_statistics(
         {"coords": coords, "stress": stress, "volume": volume, "applied": 2.0, "strain": 1e-5})
     assert statistics["nodes"] == 64 and statistics["loaded_nodes"] == 61
     assert loaded.sum() == 61 and np.all(s == 1.0)
@@ -100,6 +100,29 @@ def test_node_stress_statistics_of_a_uniform_field():
     assert statistics["volume_average_relative_gap"] == pytest.approx(3 / 64)
     assert statistics["tensile_share"] == 1.0
     assert statistics["tail"] is None  # no node above s = 1
+    # the 4 x 4 x 4 grid: 8 of its 64 nodes are off the faces
+    assert on_face.size == 61 and (~on_face).sum() == 8
+    assert statistics["face_nodes"] == 53
+
+
+def test_beta_leaves_out_the_nodes_on_the_box_faces():
+    # Inside: an exponential tail of exponent 2; on the faces the stresses
+    # read twice as high (as the halved Voronoi cells make them): with them
+    # the tail is fatter, without them the fit finds 2 again.
+    coords, volume = cube_lattice(12)
+    rng = np.random.default_rng(5)
+    s = np.where(rng.random(len(coords)) < 0.5, rng.uniform(0, 1, len(coords)),
+                 1 + rng.exponential(1 / 2.0, len(coords)))
+    on_face = analysis.on_box_faces(coords, coords.min(axis=0), coords.max(axis=0))
+    assert on_face.sum() == 12 ** 3 - 10 ** 3
+    s[on_face] *= 2.0
+    stress = np.zeros((len(coords), 6))
+    stress[:, analysis.ZZ] = s
+    statistics, _, _, _ = analysis.node_stress_statistics(
+        {"coords": coords, "stress": stress, "volume": volume, "applied": 1.0, "strain": 1e-5})
+    assert statistics["tail"]["beta"] == pytest.approx(2.0, rel=0.08)
+    assert statistics["tail_all_nodes"]["beta"] < 0.8 * statistics["tail"]["beta"]
+    assert statistics["face_mean_s"] == pytest.approx(2 * s[~on_face].mean(), rel=0.1)
 
 
 def test_mid_plane_map_takes_the_nearest_node():

@@ -88,6 +88,8 @@ def test_plot_stress_fits_the_tail_and_writes_stress_json(tmp_path):
     with open(tmp_path / "stress.json") as f:
         result = json.load(f)
     assert result["tail"]["beta"] == pytest.approx(beta, rel=0.05)
+    assert result["face_nodes"] == 30 ** 3 - 28 ** 3  # left out of the fit
+    assert result["tail_all_nodes"]["beta"] == pytest.approx(beta, rel=0.05)
     assert result["loaded_nodes"] == len(coords)
     assert result["volume_average_stress_zz"] == pytest.approx(applied * s.mean())
     assert os.path.exists(tmp_path / "stress.png")
