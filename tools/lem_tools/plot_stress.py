@@ -86,7 +86,7 @@ def draw(out):
     ax_pdf.set_xlabel(r"$s = \sigma_{zz}^i / \sigma_{zz}$")
     ax_pdf.set_ylabel("pdf")
     ax_pdf.set_title("(b) pdf of the vertical node stresses (%d loaded nodes)" % loaded.sum())
-    ax_pdf.legend()
+    ax_pdf.legend(loc="upper right", fontsize=8)
     fig.suptitle(r"%s: first equilibrium, $\varepsilon_{zz}$ = %.2e; volume average of "
                  r"$\sigma_{zz}^i$ / applied = %.8f"
                  % (os.path.basename(os.path.abspath(out)), d["strain"], relative_mean))
