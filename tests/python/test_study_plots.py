@@ -308,3 +308,15 @@ def test_gather_before_the_finest_runs_draws_the_finest_complete_size(tmp_path):
         np.mean([b * 600 // 1250 for b in BONDS.values()]) / 64)
     assert fit["eq10"] is not None
     assert os.path.getsize(os.path.join(s.out, "figures", "strength.png")) > 0
+
+
+def test_gather_draws_the_finest_size_whose_grid_is_whole(tmp_path):
+    """One run missing at the finest size: the figures come from the size
+    below, whose every grid point is there, not from part of a grid."""
+    s = replicated_study(tmp_path)
+    finest = [run for run in s.runs() if s.lattice_of(run)["level"] == 1250]
+    shutil.rmtree(s.run_dir(finest[0]))
+    assert study.gather(s) == 1
+    with open(os.path.join(s.out, "fit.json")) as f:
+        fit = json.load(f)
+    assert fit["figures_lattices"] == ["bpp600_p1", "bpp600_p2", "bpp600_p3"]

@@ -224,7 +224,8 @@ def stiffness_stress_figure(samples, phases, resolution):
     a.set_title("(a) effective modulus, bare contacts (paper fig. 5)")
     a.legend(fontsize=8)
     values(b, rhos, samples, "beta", "s-", color="tab:blue",
-           label=r"$P(s) \propto e^{-\beta s}$ above $s$ = 1, $s = \sigma^i_{zz}/\sigma_{zz}$")
+           label=r"$P(s) \propto e^{-\beta s}$ above $s$ = 1, $s = \sigma^i_{zz}/\sigma_{zz}$, "
+                 "nodes off the box faces")
     paper_stars(b, "beta", phases)
     b.set_xlabel(RHO)
     b.set_ylabel(r"tail exponent $\beta$ of eq. 2")

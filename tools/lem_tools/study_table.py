@@ -66,6 +66,16 @@ def write_table(path, rows, columns=STUDY_COLUMNS):
             writer.writerow(r)
 
 
+def figures_candidates(study, rows):
+    """The tags of the lattices the paper's figures may be drawn from: those
+    whose fracture runs are all complete, or if none is, those with any
+    complete run (`rows`)."""
+    with_runs = {r["lattice"] for r in rows}
+    unfinished = {study.lattice_of(run)["tag"] for run in study.runs()
+                  if study.state(run) != "complete"}
+    return (with_runs - unfinished) or with_runs
+
+
 def figures_resolution(study, shown, points):
     """What the paper's figures are drawn at (fit.json "figures", their
     subtitle): the samples' particles (sample_particles), bonds M as
@@ -102,10 +112,11 @@ def gather(study):
     table = os.path.join(study.out, "results.csv")
     write_table(table, rows, STUDY_COLUMNS + (convergence_table.RUN_AXIS_COLUMNS if axes else ()))
     # The paper's figures and eq. 10: of one size if the study has several
-    # (the finest with complete runs, so that a gather before the finest runs
-    # are done draws a coarser size rather than nothing), the mean over its
-    # replicates at each grid point.
-    lattices = convergence_table.figures_lattices(study, {r["lattice"] for r in rows}) \
+    # (the finest whose runs are all complete, else the finest with any, so
+    # that a gather before the finest runs are done draws a whole grid at a
+    # coarser size rather than part of one), the mean over its replicates at
+    # each grid point.
+    lattices = convergence_table.figures_lattices(study, figures_candidates(study, rows)) \
         if axes else []
     tags = [l["tag"] for l in lattices]
     shown = [r for r in rows if not axes or r["lattice"] in tags]
