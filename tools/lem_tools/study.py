@@ -625,9 +625,9 @@ and writes, in the study's output folder:
                               with the paper's values as stars
 Each figure says its resolution in its subtitle.  A study with a bond axis
 or replicates (docs/convergence-study.md) draws these at one size, the
-finest with fracture runs: each point the mean over its replicates (the
-seeds at that size) with ±1 standard deviation as error bars, eq. 10 fitted
-to these means (fit.json: figures_lattices), and adds:
+finest whose fracture runs are all complete: each point the mean over its
+replicates (the seeds at that size) with ±1 standard deviation as error
+bars, eq. 10 fitted to these means (fit.json: figures_lattices), and adds:
   samples.csv         one row per sample: lattice, L_n, calibration, E_eff and
                       nu of the elastic pulls
   convergence.csv     per quantity and grid point: the value extrapolated to
