@@ -66,13 +66,13 @@ def write_table(path, rows, columns=STUDY_COLUMNS):
             writer.writerow(r)
 
 
-def figures_candidates(study, rows):
+def figures_candidates(study, rows, missing):
     """The tags of the lattices the paper's figures may be drawn from: those
     whose fracture runs are all complete, or if none is, those with any
-    complete run (`rows`)."""
+    complete run (`rows`; `missing` as collect returns it)."""
     with_runs = {r["lattice"] for r in rows}
-    unfinished = {study.lattice_of(run)["tag"] for run in study.runs()
-                  if study.state(run) != "complete"}
+    missing_ids = {run_id for run_id, _ in missing}
+    unfinished = {study.lattice_of(run)["tag"] for run in study.runs() if run["id"] in missing_ids}
     return (with_runs - unfinished) or with_runs
 
 
@@ -116,7 +116,7 @@ def gather(study):
     # that a gather before the finest runs are done draws a whole grid at a
     # coarser size rather than part of one), the mean over its replicates at
     # each grid point.
-    lattices = convergence_table.figures_lattices(study, figures_candidates(study, rows)) \
+    lattices = convergence_table.figures_lattices(study, figures_candidates(study, rows, missing)) \
         if axes else []
     tags = [l["tag"] for l in lattices]
     shown = [r for r in rows if not axes or r["lattice"] in tags]
