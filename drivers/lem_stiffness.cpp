@@ -38,7 +38,7 @@ struct Elastic {
 };
 
 // Uniaxial tension of the lattice `make()` builds on rank 0.
-Elastic pull(MPI_Comm comm, const lem::SolverOptions& solver,
+Elastic pull(MPI_Comm comm, const lem::SolverOptions& solver, bool halved_faces,
              const std::function<lem::Lattice()>& make) {
   lem::SetupReport setup;
   auto lattice = lem::setup_tension_lattice(
@@ -46,6 +46,7 @@ Elastic pull(MPI_Comm comm, const lem::SolverOptions& solver,
       [&](lem::SampleInfo& info) {
         lem::Lattice l = make();
         info.stats = lem::lattice_stats(l);
+        if (halved_faces) lem::halve_face_bonds(l);
         return l;
       },
       setup);
@@ -72,12 +73,14 @@ int main(int argc, char** argv) {
     const lem::PhaseTable table = lem::read_phase_table(comm);
     std::vector<double> fractions;
     std::string dir;
+    bool halved_faces = false;
     {
       lem::OptionGroup g(comm, "Stiffness against matrix fraction");
       fractions = g.positive_reals("-stiffness_fractions", "Matrix fractions rho^m to run (the "
                                    "paper's eight by default); -matrix_fraction is ignored",
                                    {0.06, 0.1, 0.13, 0.17, 0.2, 0.22, 0.24, 0.28}, true);
       dir = g.string("-output_dir", "Directory of the results", "results/stiffness");
+      halved_faces = lem::read_face_bond_option(g);
     }
     for (double f : fractions)
       if (f > 0.36)
@@ -105,7 +108,7 @@ int main(int argc, char** argv) {
     });
 
     // E^[phi] = c E^phi: a homogeneous lattice of bonds k = a (E = 1).
-    const Elastic unit = pull(comm, solver, [&] {
+    const Elastic unit = pull(comm, solver, halved_faces, [&] {
       lem::Lattice l = sample.lattice;
       const double a = lem::lattice_stats(l).mean_length;
       l.stiffness.assign(l.bond_count(), a);
@@ -139,11 +142,12 @@ int main(int argc, char** argv) {
       adhesive_table.modulus[int(Phase::pp)] = table.modulus[int(Phase::pm)];
       lem::BridgeSpec bridges = spec.bridges;
       bridges.matrix_fraction = fraction;
-      const Elastic b = pull(comm, solver, [&] {
+      const Elastic b = pull(comm, solver, halved_faces, [&] {
         lem::add_matrix(sample, bridges);
         return lem::mechanical_lattice(sample, bare_table);
       });
-      const Elastic a = pull(comm, solver, [&] { return lem::mechanical_lattice(sample, adhesive_table); });
+      const Elastic a = pull(comm, solver, halved_faces,
+                             [&] { return lem::mechanical_lattice(sample, adhesive_table); });
       if (rank != 0) continue;  // the statistics are on rank 0
       const auto& st = sample.stats;
       const double rho_pp = st.bond_volume_fraction[int(Phase::pp)];
@@ -177,6 +181,7 @@ int main(int argc, char** argv) {
       summary.add("E_p_lattice", Ep);
       summary.add("E_m_lattice", Em);
       summary.add("lattice_poisson", unit.poisson);
+      summary.add("face_bonds", halved_faces ? "halved" : "whole");
       summary.add("bare_intercept", fb.intercept);
       summary.add("bare_slope", fb.slope);
       summary.add("adhesive_intercept", fa.intercept);

@@ -94,6 +94,14 @@ enum Face : std::uint8_t {
 };
 std::vector<std::uint8_t> face_flags(const Lattice& lattice, double tol = 1e-9);
 
+/// Scale the stiffness and the breaking force of every bond lying in a box
+/// face by 1/2 per face it lies in (1/4 on an edge).  Such a bond has only
+/// half its surroundings inside the box, as the box-clipped Voronoi cells of
+/// its nodes do; at full stiffness the faces form a stiff skin.  The FCC
+/// block is built this way; random and sample lattices only on request
+/// (-lattice_face_bonds halved).
+void halve_face_bonds(Lattice& lattice);
+
 }  // namespace lem
 
 namespace lem {

@@ -30,6 +30,7 @@ struct SampleOptions {
   InclusionSpec inclusions;
   double inclusion_stiffness_ratio = 10.0;
   bool pore_needs_both_ends = false;  // void-bond rule, see carve_pores()
+  bool halve_face_bonds = false;      // random and sample lattices, see halve_face_bonds()
   /// Sample file only: every bond (void and interface ones too) gets the
   /// particle phase -- the homogeneous lattice of the same geometry that
   /// calibrates E^[p] and sigma^[p] (paper sect. 3).

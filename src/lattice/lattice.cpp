@@ -1,6 +1,7 @@
 #include "lem/lattice.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 
 namespace lem {
@@ -48,6 +49,18 @@ std::vector<std::uint8_t> face_flags(const Lattice& lattice, double tol) {
   return flags;
 }
 
+void halve_face_bonds(Lattice& lattice) {
+  const auto faces = face_flags(lattice);
+  for (std::size_t b = 0; b < lattice.bond_count(); ++b) {
+    const Bond& bond = lattice.bonds[b];
+    const int shared_faces = std::popcount(unsigned(faces[bond.i] & faces[bond.j]));
+    if (shared_faces == 0) continue;
+    const double share = std::ldexp(1.0, -shared_faces);
+    lattice.stiffness[b] *= share;
+    if (!lattice.strength.empty()) lattice.strength[b] *= share;
+  }
+}
+
 Lattice make_fcc_lattice(std::array<int, 3> cells, double a, double k) {
   return make_fcc_block({2 * cells[0], 2 * cells[1], 2 * cells[2]}, a, k);
 }
@@ -73,7 +86,6 @@ Lattice make_fcc_block(std::array<int, 3> half_cells, double a, double k) {
         }
   // The six nearest-neighbour directions with a positive first nonzero entry.
   const int dirs[6][3] = {{1, 1, 0}, {1, -1, 0}, {1, 0, 1}, {1, 0, -1}, {0, 1, 1}, {0, 1, -1}};
-  auto on_boundary = [&](int c, int axis) { return c == 0 || c == n[axis] - 1; };
   for (int i = 0; i < n[0]; ++i)
     for (int j = 0; j < n[1]; ++j)
       for (int l = 0; l < n[2]; ++l) {
@@ -82,14 +94,9 @@ Lattice make_fcc_block(std::array<int, 3> half_cells, double a, double k) {
           const int p[3] = {i + d[0], j + d[1], l + d[2]};
           if (p[0] < 0 || p[0] >= n[0] || p[1] < 0 || p[1] >= n[1] || p[2] < 0 || p[2] >= n[2])
             continue;
-          // Share of the bond inside the block: 1/2 per box face containing it.
-          const int c[3] = {i, j, l};
-          double share = 1.0;
-          for (int axis = 0; axis < 3; ++axis)
-            if (d[axis] == 0 && on_boundary(c[axis], axis)) share *= 0.5;
           const std::int32_t u = at(i, j, l), v = at(p[0], p[1], p[2]);
           lattice.bonds.push_back(Bond{std::min(u, v), std::max(u, v)});
-          lattice.stiffness.push_back(k * share);
+          lattice.stiffness.push_back(k);
         }
       }
   // Sort bonds (and their stiffness) into the canonical order.
@@ -105,6 +112,9 @@ Lattice make_fcc_block(std::array<int, 3> half_cells, double a, double k) {
   }
   lattice.bonds = std::move(bonds);
   lattice.stiffness = std::move(stiffness);
+  // The block is an exact share of the infinite lattice: a bond in a face
+  // is half inside it.
+  halve_face_bonds(lattice);
   return lattice;
 }
 

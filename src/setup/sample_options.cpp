@@ -35,6 +35,14 @@ bool read_random_lattice_options(OptionGroup& g, RandomLatticeSpec& spec) {
   return spec.nodes != 0 || spec.bonds != 0 || spec.mesh_density != 0;
 }
 
+bool read_face_bond_option(OptionGroup& g) {
+  return g.choice<bool>(
+      "-lattice_face_bonds", "Bonds lying in a box face: whole = full stiffness and strength "
+      "(a stiffer skin, the default and every published figure), halved = 1/2 per face they "
+      "lie in, as the box-clipped Voronoi cells of their nodes (docs/theory.md)",
+      {{"whole", false}, {"halved", true}}, false);
+}
+
 std::int64_t auto_packing_count(std::int64_t sample_particles) {
   const std::int64_t rounded = (2 * sample_particles + 50) / 100 * 100;
   return std::max<std::int64_t>(100, rounded);

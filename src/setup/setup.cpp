@@ -55,6 +55,10 @@ SampleOptions read_sample_options(MPI_Comm comm) {
     const int cells = static_cast<int>(g.integer("-fcc_cells", "FCC lattice: unit cells per axis",
                                                  4, 1, 400));
     o.fcc_cells = {cells, cells, cells};
+    o.halve_face_bonds = read_face_bond_option(g);
+    if (o.lattice_type == LatticeType::fcc && g.given("-lattice_face_bonds"))
+      throw InputError("option -lattice_face_bonds applies to random and sample lattices: the "
+                       "FCC block always halves its face bonds");
     if (!o.sample_file.empty()) o.lattice_type = LatticeType::sample;
   }
   {
@@ -86,6 +90,7 @@ Lattice build_sample(const SampleOptions& o, SampleInfo& info) {
     CementedSample sample = read_sample(o.sample_file);
     if (o.homogeneous) std::fill(sample.bond_phase.begin(), sample.bond_phase.end(), Phase::p);
     lattice = mechanical_lattice(sample, o.phases);
+    if (o.halve_face_bonds) halve_face_bonds(lattice);
     // Statistics (and a) of the whole lattice, void bonds included.
     info.stats = lattice_stats(sample.lattice);
     info.cemented = sample.stats;
@@ -97,6 +102,7 @@ Lattice build_sample(const SampleOptions& o, SampleInfo& info) {
     lattice = make_fcc_lattice(o.fcc_cells, 1.0, o.random.stiffness);
   } else {
     lattice = make_random_lattice(o.random);
+    if (o.halve_face_bonds) halve_face_bonds(lattice);
   }
   info.stats = lattice_stats(lattice);
   if (o.inclusion_type != InclusionType::none) {

@@ -70,6 +70,30 @@ TEST(RandomLattice, EveryFaceIsPopulatedAndFlat) {
   EXPECT_EQ(corners, 8);
 }
 
+TEST(RandomLattice, HalvingFaceBondsTakesHalfPerFaceTheBondLiesIn) {
+  Lattice l = make_random_lattice(small_spec(2000));
+  l.strength.assign(l.bond_count(), 3.0);
+  const Lattice whole = l;
+  halve_face_bonds(l);
+  int in_one_face = 0, on_an_edge = 0;
+  for (std::size_t b = 0; b < l.bond_count(); ++b) {
+    // From the coordinates: the faces both ends lie on.
+    const Point& p = l.nodes[l.bonds[b].i];
+    const Point& q = l.nodes[l.bonds[b].j];
+    int faces = 0;
+    for (int a = 0; a < 3; ++a)
+      for (double side : {l.box.lo[a], l.box.hi[a]}) faces += p[a] == side && q[a] == side;
+    const double share = faces == 0 ? 1.0 : faces == 1 ? 0.5 : 0.25;
+    EXPECT_EQ(l.stiffness[b], share * whole.stiffness[b]) << "bond " << b;
+    EXPECT_EQ(l.strength[b], share * whole.strength[b]) << "bond " << b;
+    in_one_face += faces == 1;
+    on_an_edge += faces == 2;
+  }
+  // About 6 faces x 3 x (N^(1/3))^2 bonds; 12 edges x N^(1/3).
+  EXPECT_GT(in_one_face, 1000);
+  EXPECT_GT(on_an_edge, 50);
+}
+
 TEST(RandomLattice, ReproducibleWithSeed) {
   const Lattice a = make_random_lattice(small_spec(500, 11));
   const Lattice b = make_random_lattice(small_spec(500, 11));
