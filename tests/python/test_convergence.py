@@ -405,3 +405,18 @@ def test_the_convergence_figure_title_names_particles_and_samples(tmp_path, monk
     assert convergence_plots.samples_text(results, ["n_b"]) == "2 samples per point"
     single = {("beta", 0.28, 1.0): {"levels": [level]}}
     assert convergence_plots.samples_text(single, ["beta"]) == "one sample per point"
+
+
+def test_elastic_pulls_get_the_lattice_options_of_the_runs(tmp_path, monkeypatch):
+    """-lattice_face_bonds changes the lattice a sample becomes: a study that
+    sets it for its fracture runs must pull the same lattice, and leave the
+    loading options to lem_fracture."""
+    text = SMALL + "fracture: {lattice_face_bonds: halved, fracture_stop_fraction: 0.6}\n"
+    s = Study(study_file(tmp_path, text, "h.yaml"), str(tmp_path / "out"))
+    commands = []
+    monkeypatch.setattr(study, "execute", lambda cmd, log: commands.append(cmd) or 0)
+    s.pull_one(s.elastic_pulls()[0])
+    pull = commands[0]
+    assert os.path.basename(pull[pull.index("-sample_file") - 1]) == "lem_tension"
+    assert pull[pull.index("-lattice_face_bonds") + 1] == "halved"
+    assert "-fracture_stop_fraction" not in pull

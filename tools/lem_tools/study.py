@@ -80,6 +80,10 @@ PHASE_KEYS = {"E_p": 3.0, "E_m": 1.0, "E_pp": 1.0, "E_pm": 1.0, "sigma_p": 0.01}
 GRID_RANGES = {"matrix_fractions": (0.0, 0.5), "sigma_pm_ratios": (0.0, 100.0)}
 OPTION_NAME = re.compile(r"[A-Za-z][A-Za-z0-9_]*\Z")
 RESERVED_OPTIONS = {"matrix_fraction", "output_dir", "output_stem", "sample_file"}
+# Options of the fracture section that change the lattice a sample file
+# becomes (not only the loading): the elastic pulls get them too, so that
+# pulls and runs measure the same lattice.
+LATTICE_OPTIONS = ("lattice_face_bonds",)
 COMMANDS = ("plan", "samples", "calibrate", "run", "gather", "status", "all")
 EXIT_INTERRUPTED = 4  # lem_fracture: checkpoint written after SIGTERM / SIGUSR1
 LAUNCHERS = ("srun", "mpirun")
@@ -416,7 +420,8 @@ class Study:
         cmd = launcher(self.spec["ranks"]) + [
             os.path.join(self.bin, "lem_tension"), "-sample_file",
             self.sample_file(self.lattice_of(pull), pull["rho_m"]), "-output_dir", d,
-            "-output_fields", "false"] + self.moduli_options(e_pp)
+            "-output_fields", "false"] + self.moduli_options(e_pp) + options_list(
+                {k: v for k, v in self.spec["fracture"].items() if k in LATTICE_OPTIONS})
         return self.launch(pull, d, cmd, "elastic")
 
     def run_one(self, run):
