@@ -33,6 +33,7 @@ struct DistributedLattice {
   std::vector<std::uint8_t> dof_flags;     // DofFlag bits
   std::vector<std::uint8_t> faces;         // Face bits
   std::vector<double> node_volume;         // Voronoi volume (empty: lattice had none)
+  std::vector<std::int32_t> node_particle; // particle, -1 none (empty: lattice had none)
 
   // Per local bond.
   std::vector<std::array<int, 2>> bond_ends;  // local node indices

@@ -16,9 +16,12 @@
 #include <petscksp.h>
 
 #include <functional>
+#include <memory>
 #include <vector>
 
 namespace lem {
+
+class ParticleDeflation;
 
 struct SolveReport {
   int iterations = 0;
@@ -61,6 +64,9 @@ KSP create_patch_solver(MPI_Comm comm, double rtol);
 struct SolverOptions {
   /// -lattice_ground_stiffness, relative to the mean nodal stiffness.
   double ground_stiffness = 1e-10;
+  /// -solver_particle_deflation: deflate every particle's rigid-body modes
+  /// around the preconditioner (cemented samples).
+  bool particle_deflation = false;
 };
 /// Read -lattice_ground_stiffness and record the solver defaults (CG +
 /// GAMG, ...) in the option registry, so that -help and the provenance show
@@ -162,6 +168,7 @@ class ElasticSystem {
   KspHandle ksp_;
   ConvergenceTest* convergence_ = nullptr;  // owned by ksp_ (destroyed with it)
   KspHandle fallback_ksp_;  // CG + Jacobi, for solves the multigrid fails
+  std::unique_ptr<ParticleDeflation> deflation_;  // -solver_particle_deflation
   double diagonal_scale_ = 1.0;
   double ground_ = 0.0;  // diagonal added on free dofs (-lattice_ground_stiffness)
   double current_displacement_ = 0.0;

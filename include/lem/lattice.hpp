@@ -33,6 +33,10 @@ struct Lattice {
   /// Optional per node (empty, or one per node): the box-clipped Voronoi
   /// volume |V^i| that turns bond forces into node stresses (paper eq. 1).
   std::vector<double> node_volume;
+  /// Optional per node (empty, or one per node): the particle it lies in,
+  /// -1 outside every particle (cemented samples); the solver's
+  /// per-particle coarse space (-solver_particle_deflation) is built on it.
+  std::vector<std::int32_t> node_particle;
 
   std::size_t node_count() const { return nodes.size(); }
   std::size_t bond_count() const { return bonds.size(); }

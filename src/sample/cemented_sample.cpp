@@ -178,6 +178,7 @@ Lattice mechanical_lattice(const CementedSample& sample, const PhaseTable& table
   l.box = sample.lattice.box;
   l.nodes = sample.lattice.nodes;
   l.node_volume = sample.node_volume;
+  l.node_particle = sample.node_phases.particle;
   for (std::size_t b = 0; b < sample.lattice.bond_count(); ++b) {
     const int phase = static_cast<int>(sample.bond_phase[b]);
     const double a = ls.mean_length, k = table.modulus[phase] * a;

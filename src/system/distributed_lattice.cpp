@@ -51,6 +51,7 @@ struct Piece {
   std::vector<Point> coords;
   std::vector<std::uint8_t> dof_flags, faces;
   std::vector<double> node_volume;
+  std::vector<std::int32_t> node_particle;
   std::vector<std::array<int, 2>> bond_ends;
   std::vector<std::int64_t> bond_id;
   std::vector<double> bond_stiffness, bond_strength;
@@ -61,7 +62,7 @@ struct Piece {
   std::vector<char> pack() const {
     Packer p;
     p.put(global_index), p.put(node_id), p.put(coords), p.put(dof_flags), p.put(faces);
-    p.put(node_volume);
+    p.put(node_volume), p.put(node_particle);
     p.put(bond_ends), p.put(bond_id), p.put(bond_stiffness), p.put(bond_strength), p.put(bond_tag);
     p.put(bond_reported), p.put(owned);
     return std::move(p.bytes);
@@ -69,7 +70,7 @@ struct Piece {
   void unpack(const std::vector<char>& bytes) {
     Unpacker u(bytes);
     u.get(global_index), u.get(node_id), u.get(coords), u.get(dof_flags), u.get(faces);
-    u.get(node_volume);
+    u.get(node_volume), u.get(node_particle);
     u.get(bond_ends), u.get(bond_id), u.get(bond_stiffness), u.get(bond_strength), u.get(bond_tag);
     u.get(bond_reported), u.get(owned);
   }
@@ -99,6 +100,7 @@ Piece make_piece(int r, const Lattice& lattice, const TensionConstraints& tc,
     piece.dof_flags.push_back(tc.dof_flags[n]);
     piece.faces.push_back(faces[n]);
     if (!lattice.node_volume.empty()) piece.node_volume.push_back(lattice.node_volume[n]);
+    if (!lattice.node_particle.empty()) piece.node_particle.push_back(lattice.node_particle[n]);
   };
   for (std::int64_t g = begin; g < end; ++g) add_node(g);
   for (const auto& [g, s] : ghost_slot) add_node(g);
@@ -214,6 +216,7 @@ DistributedLattice distribute_lattice(MPI_Comm comm, const Lattice& lattice,
   dl.dof_flags = std::move(piece.dof_flags);
   dl.faces = std::move(piece.faces);
   dl.node_volume = std::move(piece.node_volume);
+  dl.node_particle = std::move(piece.node_particle);
   dl.bond_ends = std::move(piece.bond_ends);
   dl.bond_id = std::move(piece.bond_id);
   dl.bond_stiffness = std::move(piece.bond_stiffness);

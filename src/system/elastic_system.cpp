@@ -1,5 +1,6 @@
 #include "lem/elastic_system.hpp"
 
+#include "particle_deflation.hpp"
 #include "solver_defaults.hpp"
 
 #include "lem/error.hpp"
@@ -114,6 +115,8 @@ ElasticSystem::ElasticSystem(DistributedLattice& lattice, const SolverOptions& o
   LEM_PETSC(KSPSetInitialGuessNonzero(ksp_, PETSC_TRUE));
   apply_solver_defaults(ksp_);
   set_from_options(ksp_);
+  if (options.particle_deflation)
+    deflation_ = std::make_unique<ParticleDeflation>(lattice_, K_, ksp_);
   install_convergence_test();
   create_fallback();  // now, so that its -fallback_* options count as used
   stage.pop();
@@ -159,6 +162,7 @@ void ElasticSystem::assemble() {
   LEM_PETSC(MatAssemblyBegin(K_, MAT_FINAL_ASSEMBLY));
   LEM_PETSC(MatAssemblyEnd(K_, MAT_FINAL_ASSEMBLY));
   operator_changed_ = true;
+  if (deflation_) deflation_->operator_changed();
   stage.pop();
 }
 
@@ -172,6 +176,7 @@ void ElasticSystem::finish_updates() {
   LEM_PETSC(MatAssemblyBegin(K_, MAT_FINAL_ASSEMBLY));
   LEM_PETSC(MatAssemblyEnd(K_, MAT_FINAL_ASSEMBLY));
   operator_changed_ = true;
+  if (deflation_) deflation_->operator_changed();
 }
 
 void ElasticSystem::assemble_rhs(double top_displacement) {
@@ -375,6 +380,7 @@ SolveReport ElasticSystem::attempt_solve(const EarlyStop* early) {
   }
   pc_ready_ = true;
   pc_stage.pop();
+  if (deflation_) deflation_->prepare(b_, u_);
   report.setup_seconds = MPI_Wtime() - t0;
   t0 = MPI_Wtime();
   LogStageScope solve_stage(stages.solve);
@@ -479,6 +485,7 @@ void ElasticSystem::pin_nodes(const std::vector<int>& local_nodes) {
     const PetscInt row = static_cast<PetscInt>(lattice_.global_index[n]);
     LEM_PETSC(MatSetValuesBlocked(K_, 1, &row, 1, &row, block, ADD_VALUES));
   }
+  if (deflation_) deflation_->constraints_changed();
 }
 
 std::vector<double> ElasticSystem::solution() const {

@@ -51,6 +51,14 @@ PetscErrorCode multigrid_level_defaults(KSP ksp, Vec, Vec, void*) {
   PetscFunctionBeginUser;
   PC pc;
   PetscCall(KSPGetPC(ksp, &pc));
+  PetscCall(apply_multigrid_level_defaults(pc));
+  PetscFunctionReturn(0);
+}
+
+}  // namespace
+
+PetscErrorCode apply_multigrid_level_defaults(PC pc) {
+  PetscFunctionBeginUser;
   PetscBool mg = PETSC_FALSE;
   // ML and HMG are built on PCMG: the level defaults reach them too.
   PetscCall(PetscObjectTypeCompareAny(reinterpret_cast<PetscObject>(pc), &mg, PCGAMG, PCMG, PCML,
@@ -66,8 +74,6 @@ PetscErrorCode multigrid_level_defaults(KSP ksp, Vec, Vec, void*) {
   }
   PetscFunctionReturn(0);
 }
-
-}  // namespace
 
 void apply_solver_defaults(KSP ksp) {
   LEM_PETSC(KSPSetType(ksp, KSPCG));
@@ -128,6 +134,12 @@ SolverOptions read_solver_options(MPI_Comm comm) {
                "singular and the multigrid preconditioner indefinite; 1e-10 removes them "
                "and changes E_eff by < 1e-6 relative (docs/cemented-samples.md); 0 "
                "disables", o.ground_stiffness, 0.0, 1e-3);
+    o.particle_deflation =
+        g.flag("-solver_particle_deflation", "Deflate the six rigid-body modes of every "
+               "particle around the preconditioner (a coarse space of 6 unknowns per "
+               "particle, solved exactly).  For porous cemented samples, where stiff "
+               "particles joined by a few soft bridges make CG slow "
+               "(docs/performance.md); needs a cemented sample", o.particle_deflation);
   }
   OptionGroup g(comm, "Linear solver (defaults set on PETSc's objects; any -ksp_*, -pc_*, "
                       "-mg_* or -mat_* option overrides them)");

@@ -1,0 +1,232 @@
+#include "particle_deflation.hpp"
+
+#include "solver_defaults.hpp"
+
+#include "lem/error.hpp"
+#include "lem/tension.hpp"
+
+#include <mpi.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <vector>
+
+namespace lem {
+namespace {
+
+using Modes = std::array<double, 6>;
+
+// The six rigid-body modes of a particle at one degree of freedom (axis a) of
+// a node at offset x from the particle's centroid: translation e_m for m < 3,
+// rotation (e_{m-3} x x)_a for m >= 3.
+Modes rigid_modes(const double x[3], int a) {
+  Modes m{};
+  m[a] = 1.0;
+  const int b = (a + 1) % 3, c = (a + 2) % 3;
+  m[3 + b] = x[c];   // (e_b x x)_a = +x_c for (a, b, c) cyclic
+  m[3 + c] = -x[b];  // (e_c x x)_a = -x_b
+  return m;
+}
+
+}  // namespace
+
+ParticleDeflation::ParticleDeflation(const DistributedLattice& lattice, Mat K, KSP ksp)
+    : lattice_(lattice), K_(K) {
+  int has = lattice_.node_particle.empty() ? 0 : 1, any = 0;
+  MPI_Allreduce(&has, &any, 1, MPI_INT, MPI_MAX, lattice_.comm);
+  if (!any)
+    throw InputError("-solver_particle_deflation needs the particle of every node: use a "
+                     "cemented sample (-sample_file or -sample_*), not a plain lattice");
+  LEM_PETSC(KSPGetPC(ksp, &inner_));
+  LEM_PETSC(PetscObjectReference(reinterpret_cast<PetscObject>(inner_)));
+  PC shell = nullptr;
+  LEM_PETSC(PCCreate(lattice_.comm, &shell));
+  LEM_PETSC(PCSetType(shell, PCSHELL));
+  LEM_PETSC(PCShellSetName(shell, "per-particle rigid-body deflation"));
+  LEM_PETSC(PCShellSetContext(shell, this));
+  LEM_PETSC(PCShellSetSetUp(shell, shell_setup));
+  LEM_PETSC(PCShellSetApply(shell, shell_apply));
+  LEM_PETSC(KSPSetPC(ksp, shell));  // the KSP takes its own reference
+  LEM_PETSC(PCDestroy(&shell));
+  LEM_PETSC(KSPSetOperators(ksp, K_, K_));
+
+  // The coarse problem is small: factored whole on every rank.
+  LEM_PETSC(KSPCreate(lattice_.comm, coarse_.replace()));
+  LEM_PETSC(KSPSetType(coarse_, KSPPREONLY));
+  // Its own prefix, so that the main solver's -ksp_* options (a monitor,
+  // -ksp_converged_reason) do not reach it.
+  LEM_PETSC(KSPSetOptionsPrefix(coarse_, "deflation_coarse_"));
+  PC coarse_pc = nullptr;
+  LEM_PETSC(KSPGetPC(coarse_, &coarse_pc));
+  LEM_PETSC(PCSetType(coarse_pc, PCREDUNDANT));
+  LEM_PETSC(MatCreateVecs(K_, work_.replace(), nullptr));
+  LEM_PETSC(VecDuplicate(work_, work2_.replace()));
+}
+
+ParticleDeflation::~ParticleDeflation() { PCDestroy(&inner_); }
+
+// W from the particles' nodes; columns numbered particle by particle, so the
+// space does not depend on the number of ranks.
+void ParticleDeflation::build_space() {
+  const DistributedLattice& l = lattice_;
+  std::int32_t last = -1;
+  for (int n = 0; n < l.owned; ++n) last = std::max(last, l.node_particle[n]);
+  std::int32_t particles = 0;
+  const std::int32_t mine = last + 1;
+  MPI_Allreduce(&mine, &particles, 1, MPI_INT32_T, MPI_MAX, l.comm);
+
+  // Centroid of each particle's nodes.
+  std::vector<double> sums(4 * static_cast<std::size_t>(particles), 0.0);
+  for (int n = 0; n < l.owned; ++n) {
+    const std::int32_t p = l.node_particle[n];
+    if (p < 0) continue;
+    for (int a = 0; a < 3; ++a) sums[4 * p + a] += l.coords[n][a];
+    sums[4 * p + 3] += 1;
+  }
+  MPI_Allreduce(MPI_IN_PLACE, sums.data(), static_cast<int>(sums.size()), MPI_DOUBLE, MPI_SUM,
+                l.comm);
+  auto offset = [&](int n, double x[3]) {
+    const std::int32_t p = l.node_particle[n];
+    for (int a = 0; a < 3; ++a) x[a] = l.coords[n][a] - sums[4 * p + a] / sums[4 * p + 3];
+  };
+
+  // Gram matrix of each particle's modes over its free degrees of freedom.
+  std::vector<double> gram(36 * static_cast<std::size_t>(particles), 0.0);
+  for (int n = 0; n < l.owned; ++n) {
+    const std::int32_t p = l.node_particle[n];
+    if (p < 0) continue;
+    double x[3];
+    offset(n, x);
+    for (int a = 0; a < 3; ++a) {
+      if (is_fixed(l.dof_flags[n], a)) continue;
+      const Modes m = rigid_modes(x, a);
+      for (int i = 0; i < 6; ++i)
+        for (int j = 0; j < 6; ++j) gram[36 * p + 6 * i + j] += m[i] * m[j];
+    }
+  }
+  MPI_Allreduce(MPI_IN_PLACE, gram.data(), static_cast<int>(gram.size()), MPI_DOUBLE, MPI_SUM,
+                l.comm);
+
+  // Per particle, combinations of its modes orthonormal over its free
+  // degrees of freedom (Gram-Schmidt in the Gram metric, twice); a mode
+  // that adds less than 1e-6 of its own norm (a particle cut by a face, a
+  // handful of nodes in a line) is dropped, so that W^T K W stays regular.
+  std::vector<std::vector<Modes>> basis(particles);
+  std::vector<PetscInt> first(particles + 1, 0);
+  for (std::int32_t p = 0; p < particles; ++p) {
+    const double* G = &gram[36 * static_cast<std::size_t>(p)];
+    auto dot = [G](const Modes& u, const Modes& v) {
+      double s = 0;
+      for (int i = 0; i < 6; ++i)
+        for (int j = 0; j < 6; ++j) s += u[i] * G[6 * i + j] * v[j];
+      return s;
+    };
+    for (int j = 0; j < 6; ++j) {
+      if (G[7 * j] <= 0) continue;
+      Modes v{};
+      v[j] = 1.0;
+      for (int pass = 0; pass < 2; ++pass)
+        for (const Modes& b : basis[p]) {
+          const double c = dot(b, v);
+          for (int i = 0; i < 6; ++i) v[i] -= c * b[i];
+        }
+      const double norm2 = dot(v, v);
+      if (norm2 < 1e-6 * G[7 * j]) continue;
+      for (double& c : v) c /= std::sqrt(norm2);
+      basis[p].push_back(v);
+    }
+    first[p + 1] = first[p] + static_cast<PetscInt>(basis[p].size());
+  }
+  coarse_size_ = first[particles];
+
+  int rank = 0, size = 1;
+  MPI_Comm_rank(l.comm, &rank);
+  MPI_Comm_size(l.comm, &size);
+  const PetscInt local_columns = coarse_size_ / size + (rank < coarse_size_ % size ? 1 : 0);
+  LEM_PETSC(MatCreateAIJ(l.comm, 3 * l.owned, local_columns, PETSC_DETERMINE, coarse_size_, 6,
+                         nullptr, 6, nullptr, W_.replace()));
+  for (int n = 0; n < l.owned; ++n) {
+    const std::int32_t p = l.node_particle[n];
+    if (p < 0) continue;
+    double x[3];
+    offset(n, x);
+    for (int a = 0; a < 3; ++a) {
+      if (is_fixed(l.dof_flags[n], a)) continue;
+      const Modes m = rigid_modes(x, a);
+      const PetscInt row = 3 * static_cast<PetscInt>(l.global_index[n]) + a;
+      for (std::size_t i = 0; i < basis[p].size(); ++i) {
+        double value = 0;
+        for (int k = 0; k < 6; ++k) value += m[k] * basis[p][i][k];
+        const PetscInt column = first[p] + static_cast<PetscInt>(i);
+        LEM_PETSC(MatSetValues(W_, 1, &row, 1, &column, &value, INSERT_VALUES));
+      }
+    }
+  }
+  LEM_PETSC(MatAssemblyBegin(W_, MAT_FINAL_ASSEMBLY));
+  LEM_PETSC(MatAssemblyEnd(W_, MAT_FINAL_ASSEMBLY));
+  // W^T v as a product with the stored transpose: MatMultTranspose of a
+  // parallel AIJ matrix is several times slower.
+  LEM_PETSC(MatTranspose(W_, MAT_INITIAL_MATRIX, Wt_.replace()));
+  LEM_PETSC(MatCreateVecs(W_, coarse_rhs_.replace(), nullptr));
+  LEM_PETSC(VecDuplicate(coarse_rhs_, coarse_solution_.replace()));
+  coarse_matrix_.reset();
+  space_stale_ = false;
+  coarse_stale_ = true;
+}
+
+void ParticleDeflation::form_coarse() {
+  if (space_stale_) build_space();
+  if (!coarse_stale_) return;
+  if (!coarse_matrix_)
+    LEM_PETSC(MatPtAP(K_, W_, MAT_INITIAL_MATRIX, 2.0, coarse_matrix_.replace()));
+  else
+    LEM_PETSC(MatPtAP(K_, W_, MAT_REUSE_MATRIX, 2.0, coarse_matrix_.replace()));
+  LEM_PETSC(KSPSetOperators(coarse_, coarse_matrix_, coarse_matrix_));
+  LEM_PETSC(KSPSetUp(coarse_));
+  coarse_stale_ = false;
+}
+
+void ParticleDeflation::apply_q(Vec v, Vec out) {
+  LEM_PETSC(MatMult(Wt_, v, coarse_rhs_));
+  LEM_PETSC(KSPSolve(coarse_, coarse_rhs_, coarse_solution_));
+  LEM_PETSC(MatMult(W_, coarse_solution_, out));
+}
+
+void ParticleDeflation::prepare(Vec b, Vec u) {
+  form_coarse();
+  LEM_PETSC(MatMult(K_, u, work_));  // work = b - K u
+  LEM_PETSC(VecAYPX(work_, -1.0, b));
+  apply_q(work_, work2_);
+  LEM_PETSC(VecAXPY(u, 1.0, work2_));
+}
+
+PetscErrorCode ParticleDeflation::shell_setup(PC pc) {
+  PetscFunctionBeginUser;
+  ParticleDeflation* d = nullptr;
+  PetscCall(PCShellGetContext(pc, &d));
+  PetscCall(PCSetOperators(d->inner_, d->K_, d->K_));
+  PetscCall(PCSetUp(d->inner_));
+  PetscCall(apply_multigrid_level_defaults(d->inner_));
+  PetscFunctionReturn(0);
+}
+
+// z = (I - Q K) M^-1 r + Q r
+PetscErrorCode ParticleDeflation::shell_apply(PC pc, Vec r, Vec z) {
+  PetscFunctionBeginUser;
+  ParticleDeflation* d = nullptr;
+  PetscCall(PCShellGetContext(pc, &d));
+  try {
+    PetscCall(PCApply(d->inner_, r, z));
+    PetscCall(MatMult(d->K_, z, d->work_));
+    d->apply_q(d->work_, d->work2_);
+    PetscCall(VecAXPY(z, -1.0, d->work2_));
+    d->apply_q(r, d->work2_);
+    PetscCall(VecAXPY(z, 1.0, d->work2_));
+  } catch (const PetscFailure& e) {
+    SETERRQ(PetscObjectComm(reinterpret_cast<PetscObject>(pc)), PETSC_ERR_LIB, "%s", e.what());
+  }
+  PetscFunctionReturn(0);
+}
+
+}  // namespace lem

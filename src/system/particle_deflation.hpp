@@ -1,0 +1,64 @@
+// A coarse space of per-particle rigid-body modes deflated around the
+// preconditioner of the elastic system (-solver_particle_deflation).
+//
+// In a porous cemented sample the stiff particles are held together by a few
+// soft bridges: every particle moving as a rigid body is a near-null mode of
+// K that aggregation multigrid does not see, and CG needs several times the
+// iterations of a well-cemented sample.  Each particle's three translations
+// and three rotations (about its node centroid, over its free degrees of
+// freedom, orthonormalised per particle, nearly dependent ones dropped) form
+// the columns of W; with Q = W (W^T K W)^-1 W^T and M the multigrid, the
+// preconditioner is (I - Q K) M^-1 + Q and every solve starts from
+// u + Q (b - K u): the "A-DEF2" form of Tang, Nabben, Vuik & Erlangga
+// (J. Sci. Comput. 39, 2009), which stays robust when M is kept for several
+// operators.  W^T K W is small (6 unknowns per particle) and is formed and
+// factored again whenever K changes.
+#pragma once
+
+#include "lem/distributed_lattice.hpp"
+#include "lem/petsc_handle.hpp"
+
+#include <petscksp.h>
+
+namespace lem {
+
+class ParticleDeflation {
+ public:
+  /// Wraps the KSP's current preconditioner (kept as the inner M) in a shell
+  /// that applies the deflated one.  Throws InputError if the lattice has no
+  /// particles.
+  ParticleDeflation(const DistributedLattice& lattice, Mat K, KSP ksp);
+  ~ParticleDeflation();
+  ParticleDeflation(const ParticleDeflation&) = delete;
+  ParticleDeflation& operator=(const ParticleDeflation&) = delete;
+
+  /// K changed in place (values only): the coarse operator is formed again
+  /// before the next solve.
+  void operator_changed() { coarse_stale_ = true; }
+  /// Degrees of freedom were constrained (pinned nodes): W is built again.
+  void constraints_changed() { space_stale_ = true; }
+  /// Before a solve, after the preconditioner is set up: bring the coarse
+  /// operator up to date and move the initial guess u by Q (b - K u).
+  void prepare(Vec b, Vec u);
+  /// The multigrid inside (for its level defaults).
+  PC inner() const { return inner_; }
+  PetscInt coarse_size() const { return coarse_size_; }
+
+ private:
+  static PetscErrorCode shell_setup(PC pc);
+  static PetscErrorCode shell_apply(PC pc, Vec r, Vec z);
+  void build_space();
+  void form_coarse();
+  void apply_q(Vec v, Vec out);  // out = Q v
+
+  const DistributedLattice& lattice_;
+  Mat K_;
+  PC inner_ = nullptr;  // a reference of our own
+  MatHandle W_, Wt_, coarse_matrix_;
+  KspHandle coarse_;
+  VecHandle coarse_rhs_, coarse_solution_, work_, work2_;
+  PetscInt coarse_size_ = 0;
+  bool space_stale_ = true, coarse_stale_ = true;
+};
+
+}  // namespace lem
