@@ -180,8 +180,10 @@ void ParticleDeflation::form_coarse() {
   if (!coarse_stale_) return;
   if (!coarse_matrix_)
     LEM_PETSC(MatPtAP(K_, W_, MAT_INITIAL_MATRIX, 2.0, coarse_matrix_.replace()));
-  else
-    LEM_PETSC(MatPtAP(K_, W_, MAT_REUSE_MATRIX, 2.0, coarse_matrix_.replace()));
+  else {
+    Mat coarse = coarse_matrix_;  // filled in place (replace() would destroy it)
+    LEM_PETSC(MatPtAP(K_, W_, MAT_REUSE_MATRIX, 2.0, &coarse));
+  }
   LEM_PETSC(KSPSetOperators(coarse_, coarse_matrix_, coarse_matrix_));
   LEM_PETSC(KSPSetUp(coarse_));
   coarse_stale_ = false;
