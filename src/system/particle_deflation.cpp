@@ -207,13 +207,19 @@ PetscErrorCode ParticleDeflation::shell_setup(PC pc) {
   PetscFunctionBeginUser;
   ParticleDeflation* d = nullptr;
   PetscCall(PCShellGetContext(pc, &d));
+  PetscCall(PCSetReusePreconditioner(d->inner_, PETSC_FALSE));
   PetscCall(PCSetOperators(d->inner_, d->K_, d->K_));
   PetscCall(PCSetUp(d->inner_));
   PetscCall(apply_multigrid_level_defaults(d->inner_));
+  // PCApply sets a PC up again whenever its matrix changed; K changes in
+  // place after every batch of ruptures, and the multigrid is rebuilt only
+  // when the outer KSP decides (reused between load steps).
+  PetscCall(PCSetReusePreconditioner(d->inner_, PETSC_TRUE));
   PetscFunctionReturn(0);
 }
 
-// z = (I - Q K) M^-1 r + Q r
+// z = (I - Q K) M^-1 r + Q r, written as y = M^-1 r, z = y + Q (r - K y):
+// one coarse solve per iteration.
 PetscErrorCode ParticleDeflation::shell_apply(PC pc, Vec r, Vec z) {
   PetscFunctionBeginUser;
   ParticleDeflation* d = nullptr;
@@ -221,9 +227,8 @@ PetscErrorCode ParticleDeflation::shell_apply(PC pc, Vec r, Vec z) {
   try {
     PetscCall(PCApply(d->inner_, r, z));
     PetscCall(MatMult(d->K_, z, d->work_));
+    PetscCall(VecAYPX(d->work_, -1.0, r));
     d->apply_q(d->work_, d->work2_);
-    PetscCall(VecAXPY(z, -1.0, d->work2_));
-    d->apply_q(r, d->work2_);
     PetscCall(VecAXPY(z, 1.0, d->work2_));
   } catch (const PetscFailure& e) {
     SETERRQ(PetscObjectComm(reinterpret_cast<PetscObject>(pc)), PETSC_ERR_LIB, "%s", e.what());

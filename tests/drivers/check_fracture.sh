@@ -20,6 +20,9 @@
 #                   rupture sequences of the calibration and of the sample
 #                   are the same; curves within 1e-6 of the peak up to it,
 #                   1e-5 after
+#   deflation       shipped tiny sample: -solver_particle_deflation, stopped on
+#                   2 ranks and resumed on 1, breaks the bonds the plain
+#                   multigrid breaks on 2, in the same order
 #   node_stress     shipped tiny sample: the node stresses of elastic.h5 (eq. 1)
 #                   average to the applied stress, agree on 1 and 2 ranks, and
 #                   tools/plot_stress.py draws them and fits the tail exponent
@@ -241,6 +244,37 @@ restart_ranks)
     fail "the run resumed on 1 rank breaks other bonds"
   compare_curves "$work/cut" "$work/whole" 1e-7
   echo "ok: $(grep '^resumed' "$work/cut/log") on 1 rank; the same $(summary "$work/cut" broken) ruptures"
+  ;;
+deflation)
+  # The shipped tiny cemented sample to 1.5 times its peak strain: with the
+  # per-particle deflation (-solver_particle_deflation) a 2-rank run stopped
+  # by SIGUSR1 and resumed on 1 rank breaks the bonds the plain multigrid
+  # breaks on 2 ranks, in the same order, with the same curve (within the
+  # solver tolerance).
+  root="$(cd "$(dirname "$0")/../.." && pwd)"
+  # shellcheck disable=SC2206
+  case_args=(-sample_file "$root/meshes/tiny.h5" -fracture_calibrate 0
+             -fracture_max_strain_ratio 1.5 -output_fields false ${LEM_CASE_ARGS:-})
+  args=(-checkpoint_steps 4 -checkpoint_seconds 0)
+  run 2 "$work/plain" "${args[@]}" || fail "plain run: $(tail -3 "$work/plain/log")"
+  mkdir -p "$work/cut"
+  "${mpi[@]}" -n 2 "$prog" "${case_args[@]}" -output_dir "$work/cut" "${args[@]}" \
+    -solver_particle_deflation > "$work/cut/log1" 2>&1 &
+  leader=$!
+  wait_for_checkpoint "$work/cut"
+  kill -USR1 "$leader"; wait "$leader"
+  [ -s "$work/cut/checkpoint.bin" ] || fail "no checkpoint appeared"
+  run 1 "$work/cut" "${args[@]}" -solver_particle_deflation ||
+    fail "resumed run on 1 rank: $(tail -3 "$work/cut/log")"
+  grep -q "^resumed from" "$work/cut/log" || fail "the rerun did not resume"
+  [ "$(summary "$work/plain" broken)" -gt 100 ] || fail "too few ruptures to test anything"
+  diff <(sequence "$work/plain") <(sequence "$work/cut") > /dev/null ||
+    fail "the deflated run breaks other bonds than the plain one"
+  # Two preconditioners stop at -ksp_rtol on different iterates: measured
+  # 1.2e-7 of the peak apart (the tail, where fewer bonds hold the load).
+  compare_curves "$work/cut" "$work/plain" 1e-6
+  its() { $py -c "import json,sys; print(json.load(open(sys.argv[1]))['ksp_iterations'])" "$1/summary.json"; }
+  echo "ok: deflated, $(grep '^resumed' "$work/cut/log") on 1 rank: the same $(summary "$work/cut" broken) ruptures as the plain multigrid; CG iterations after the restart $(its "$work/cut"), plain run $(its "$work/plain")"
   ;;
 *) fail "unknown mode $mode" ;;
 esac
