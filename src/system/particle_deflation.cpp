@@ -3,6 +3,7 @@
 #include "solver_defaults.hpp"
 
 #include "lem/error.hpp"
+#include "lem/log.hpp"
 #include "lem/tension.hpp"
 
 #include <mpi.h>
@@ -60,6 +61,7 @@ ParticleDeflation::ParticleDeflation(const DistributedLattice& lattice, Mat K, K
   PC coarse_pc = nullptr;
   LEM_PETSC(KSPGetPC(coarse_, &coarse_pc));
   LEM_PETSC(PCSetType(coarse_pc, PCREDUNDANT));
+  LEM_PETSC(KSPSetFromOptions(coarse_));
   LEM_PETSC(MatCreateVecs(K_, work_.replace(), nullptr));
   LEM_PETSC(VecDuplicate(work_, work2_.replace()));
 }
@@ -139,6 +141,13 @@ void ParticleDeflation::build_space() {
     first[p + 1] = first[p] + static_cast<PetscInt>(basis[p].size());
   }
   coarse_size_ = first[particles];
+  if (!announced_) {
+    const auto held = std::count_if(basis.begin(), basis.end(),
+                                    [](const std::vector<Modes>& b) { return !b.empty(); });
+    say("per-particle deflation: %lld coarse unknowns for the %lld particles in the box\n",
+        static_cast<long long>(coarse_size_), static_cast<long long>(held));
+    announced_ = true;
+  }
 
   int rank = 0, size = 1;
   MPI_Comm_rank(l.comm, &rank);

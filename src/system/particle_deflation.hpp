@@ -59,6 +59,7 @@ class ParticleDeflation {
   VecHandle coarse_rhs_, coarse_solution_, work_, work2_;
   PetscInt coarse_size_ = 0;
   bool space_stale_ = true, coarse_stale_ = true;
+  bool announced_ = false;  // the size of the space is said once
 };
 
 }  // namespace lem
