@@ -93,20 +93,25 @@ void ParticleDeflation::build_space() {
     for (int a = 0; a < 3; ++a) x[a] = l.coords[n][a] - sums[4 * p + a] / sums[4 * p + 3];
   };
 
+  // visit(node, axis, particle, modes) for every free degree of freedom of
+  // an owned node inside a particle.
+  auto for_each_free_dof = [&](auto&& visit) {
+    for (int n = 0; n < l.owned; ++n) {
+      const std::int32_t p = l.node_particle[n];
+      if (p < 0) continue;
+      double x[3];
+      offset(n, x);
+      for (int a = 0; a < 3; ++a)
+        if (!is_fixed(l.dof_flags[n], a)) visit(n, a, p, rigid_modes(x, a));
+    }
+  };
+
   // Gram matrix of each particle's modes over its free degrees of freedom.
   std::vector<double> gram(36 * static_cast<std::size_t>(particles), 0.0);
-  for (int n = 0; n < l.owned; ++n) {
-    const std::int32_t p = l.node_particle[n];
-    if (p < 0) continue;
-    double x[3];
-    offset(n, x);
-    for (int a = 0; a < 3; ++a) {
-      if (is_fixed(l.dof_flags[n], a)) continue;
-      const Modes m = rigid_modes(x, a);
-      for (int i = 0; i < 6; ++i)
-        for (int j = 0; j < 6; ++j) gram[36 * p + 6 * i + j] += m[i] * m[j];
-    }
-  }
+  for_each_free_dof([&](int, int, std::int32_t p, const Modes& m) {
+    for (int i = 0; i < 6; ++i)
+      for (int j = 0; j < 6; ++j) gram[36 * p + 6 * i + j] += m[i] * m[j];
+  });
   MPI_Allreduce(MPI_IN_PLACE, gram.data(), static_cast<int>(gram.size()), MPI_DOUBLE, MPI_SUM,
                 l.comm);
 
@@ -155,23 +160,15 @@ void ParticleDeflation::build_space() {
   const PetscInt local_columns = coarse_size_ / size + (rank < coarse_size_ % size ? 1 : 0);
   LEM_PETSC(MatCreateAIJ(l.comm, 3 * l.owned, local_columns, PETSC_DETERMINE, coarse_size_, 6,
                          nullptr, 6, nullptr, W_.replace()));
-  for (int n = 0; n < l.owned; ++n) {
-    const std::int32_t p = l.node_particle[n];
-    if (p < 0) continue;
-    double x[3];
-    offset(n, x);
-    for (int a = 0; a < 3; ++a) {
-      if (is_fixed(l.dof_flags[n], a)) continue;
-      const Modes m = rigid_modes(x, a);
-      const PetscInt row = 3 * static_cast<PetscInt>(l.global_index[n]) + a;
-      for (std::size_t i = 0; i < basis[p].size(); ++i) {
-        double value = 0;
-        for (int k = 0; k < 6; ++k) value += m[k] * basis[p][i][k];
-        const PetscInt column = first[p] + static_cast<PetscInt>(i);
-        LEM_PETSC(MatSetValues(W_, 1, &row, 1, &column, &value, INSERT_VALUES));
-      }
+  for_each_free_dof([&](int n, int a, std::int32_t p, const Modes& m) {
+    const PetscInt row = 3 * static_cast<PetscInt>(l.global_index[n]) + a;
+    for (std::size_t i = 0; i < basis[p].size(); ++i) {
+      double value = 0;
+      for (int k = 0; k < 6; ++k) value += m[k] * basis[p][i][k];
+      const PetscInt column = first[p] + static_cast<PetscInt>(i);
+      LEM_PETSC(MatSetValues(W_, 1, &row, 1, &column, &value, INSERT_VALUES));
     }
-  }
+  });
   LEM_PETSC(MatAssemblyBegin(W_, MAT_FINAL_ASSEMBLY));
   LEM_PETSC(MatAssemblyEnd(W_, MAT_FINAL_ASSEMBLY));
   // W^T v as a product with the stored transpose: MatMultTranspose of a
