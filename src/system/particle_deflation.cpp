@@ -176,7 +176,10 @@ void ParticleDeflation::build_space() {
   LEM_PETSC(MatTranspose(W_, MAT_INITIAL_MATRIX, Wt_.replace()));
   LEM_PETSC(MatCreateVecs(W_, coarse_rhs_.replace(), nullptr));
   LEM_PETSC(VecDuplicate(coarse_rhs_, coarse_solution_.replace()));
+  // A new space may have another size (pins can take a particle's last free
+  // degrees of freedom): the coarse solver starts afresh.
   coarse_matrix_.reset();
+  LEM_PETSC(KSPReset(coarse_));
   space_stale_ = false;
   coarse_stale_ = true;
 }

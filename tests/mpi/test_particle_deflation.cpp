@@ -192,7 +192,8 @@ TEST_F(Deflation, FollowsInPlaceChangesWithItsMultigridReused) {
 
 TEST_F(Deflation, FollowsPinnedNodes) {
   // One particle node in ten loses its bonds and is pinned (what loose nodes
-  // get in a fracture run): W loses those degrees of freedom.
+  // get in a fracture run), and so does every node of particle 5: W loses
+  // those degrees of freedom, and particle 5's six columns.
   const Lattice l = particle_lattice(4000);
   DistributedLattice lp = distributed(PETSC_COMM_WORLD, l), ld = distributed(PETSC_COMM_WORLD, l);
   const SolverOptions grounded;
@@ -201,7 +202,7 @@ TEST_F(Deflation, FollowsPinnedNodes) {
     std::vector<char> pinned(dl.coords.size(), 0);
     std::vector<int> pins;
     for (std::size_t n = 0; n < dl.coords.size(); ++n)
-      if (dl.node_particle[n] >= 0 && dl.node_id[n] % 10 == 0) {
+      if (dl.node_particle[n] == 5 || (dl.node_particle[n] >= 0 && dl.node_id[n] % 10 == 0)) {
         pinned[n] = 1;
         pins.push_back(static_cast<int>(n));
       }
