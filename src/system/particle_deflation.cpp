@@ -145,20 +145,20 @@ void ParticleDeflation::build_space() {
     }
     first[p + 1] = first[p] + static_cast<PetscInt>(basis[p].size());
   }
-  coarse_size_ = first[particles];
+  const PetscInt coarse_size = first[particles];
   if (!announced_) {
     const auto held = std::count_if(basis.begin(), basis.end(),
                                     [](const std::vector<Modes>& b) { return !b.empty(); });
     say("per-particle deflation: %lld coarse unknowns for the %lld particles in the box\n",
-        static_cast<long long>(coarse_size_), static_cast<long long>(held));
+        static_cast<long long>(coarse_size), static_cast<long long>(held));
     announced_ = true;
   }
 
   int rank = 0, size = 1;
   MPI_Comm_rank(l.comm, &rank);
   MPI_Comm_size(l.comm, &size);
-  const PetscInt local_columns = coarse_size_ / size + (rank < coarse_size_ % size ? 1 : 0);
-  LEM_PETSC(MatCreateAIJ(l.comm, 3 * l.owned, local_columns, PETSC_DETERMINE, coarse_size_, 6,
+  const PetscInt local_columns = coarse_size / size + (rank < coarse_size % size ? 1 : 0);
+  LEM_PETSC(MatCreateAIJ(l.comm, 3 * l.owned, local_columns, PETSC_DETERMINE, coarse_size, 6,
                          nullptr, 6, nullptr, W_.replace()));
   for_each_free_dof([&](int n, int a, std::int32_t p, const Modes& m) {
     const PetscInt row = 3 * static_cast<PetscInt>(l.global_index[n]) + a;

@@ -40,9 +40,6 @@ class ParticleDeflation {
   /// Before a solve, after the preconditioner is set up: bring the coarse
   /// operator up to date and move the initial guess u by Q (b - K u).
   void prepare(Vec b, Vec u);
-  /// The multigrid inside (for its level defaults).
-  PC inner() const { return inner_; }
-  PetscInt coarse_size() const { return coarse_size_; }
 
  private:
   static PetscErrorCode shell_setup(PC pc);
@@ -57,7 +54,6 @@ class ParticleDeflation {
   MatHandle W_, Wt_, coarse_matrix_;
   KspHandle coarse_;
   VecHandle coarse_rhs_, coarse_solution_, work_, work2_;
-  PetscInt coarse_size_ = 0;
   bool space_stale_ = true, coarse_stale_ = true;
   bool announced_ = false;  // the size of the space is said once
 };
