@@ -186,7 +186,8 @@ def test_study_files_without_axes_keep_their_hash():
         assert study.study_hash(load_study(os.path.join(root, name))) == value
     for name in ("convergence.yaml", "convergence-local.yaml", "scatter-local.yaml",
                  "strength-516-local.yaml", "strength-516-pm-local.yaml",
-                 "strength-516-low-local.yaml", "strength-516-low-5000-local.yaml"):
+                 "strength-516-low-local.yaml", "strength-516-low-5000-local.yaml",
+                 "strength-516-pm-5000-local.yaml"):
         assert Study(os.path.join(root, name), "unused").runs()
 
 
