@@ -187,7 +187,7 @@ def test_study_files_without_axes_keep_their_hash():
     for name in ("convergence.yaml", "convergence-local.yaml", "scatter-local.yaml",
                  "strength-516-local.yaml", "strength-516-pm-local.yaml",
                  "strength-516-low-local.yaml", "strength-516-low-5000-local.yaml",
-                 "strength-516-pm-5000-local.yaml"):
+                 "strength-516-pm-5000-local.yaml", "strength-516-replicates-local.yaml"):
         assert Study(os.path.join(root, name), "unused").runs()
 
 
