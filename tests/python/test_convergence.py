@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from conftest import write_curve, write_manifest, write_study_file
-from lem_tools import convergence, study
+from lem_tools import convergence, convergence_plots, study, study_combine, study_plots
 from lem_tools.study import Study, StudyError, load_study
 
 # --- the numbers ------------------------------------------------------------
@@ -257,10 +257,10 @@ def offset(lattice):
     return {1: 0.01, 2: -0.01}[lattice["pack_seed"]] if lattice["level"] < 80000 else 0.0
 
 
-def fake_study(tmp_path):
-    """A study whose samples, calibrations, pulls and runs are written here,
-    their values on known lines in L_n."""
-    s = Study(study_file(tmp_path, SMALL, "g.yaml"), str(tmp_path / "out"))
+def fake_study(tmp_path, text=SMALL, name="out"):
+    """A study whose samples, calibrations, pulls and runs are written in
+    tmp_path/name, their values on known lines in L_n."""
+    s = Study(study_file(tmp_path, text, name + ".yaml"), str(tmp_path / name))
     s.plan()
     os.makedirs(os.path.join(s.out, "samples"))
     for sample in s.samples():
@@ -373,6 +373,75 @@ def test_paper_marks_in_units_of_the_particle_modulus():
     # no mark where the paper gives no value
     assert convergence_plots.paper_marks("E_bare_over_E_unit", [0.13], phases) == []
     assert convergence_plots.paper_marks("sigma_eff_over_sigma_unit", [0.28], phases) == []
+
+
+# --- several gathered studies as one (study_combine) -------------------------
+
+# the study SMALL split in two: its two coarse sizes, and its finest size
+COARSE = SMALL.replace("name: g", "name: coarse").replace("[20000, 40000, 80000]",
+                                                          "[20000, 40000]")
+FINE = SMALL.replace("name: g", "name: fine").replace("[20000, 40000, 80000]", "[80000]") \
+    .replace("[1, 2]", "[1]").replace("replicates_up_to: 40000\n", "")
+
+
+def gathered(tmp_path, text, name, monkeypatch):
+    """The output folder of a gathered fake study; its figures are not drawn
+    (the tables are what combining reads)."""
+    s = fake_study(tmp_path, text, name)
+    with monkeypatch.context() as m:
+        m.setattr(study_plots, "draw_all", lambda *args: [])
+        m.setattr(convergence_plots, "draw_all", lambda *args: [])
+        assert study.gather(s) == 0
+    return s.out
+
+
+def test_combining_a_split_study_gives_the_extrapolations_of_the_whole(tmp_path, capsys,
+                                                                      monkeypatch):
+    whole = gathered(tmp_path, SMALL, "whole", monkeypatch)
+    parts = [gathered(tmp_path, COARSE, "coarse", monkeypatch),
+             gathered(tmp_path, FINE, "fine", monkeypatch)]
+    out = str(tmp_path / "combined")
+    assert study_combine.main([out] + parts) == 0
+    assert "10 runs and 10 samples of 2 studies" in capsys.readouterr().out
+
+    def points(folder):
+        return {(r["quantity"], r["rho_m"], r["sigma_pm_ratio"]): r
+                for r in read_rows(os.path.join(folder, "convergence.csv"))}
+    expected, got = points(whole), points(out)
+    assert set(got) == set(expected)
+    for key, row in expected.items():
+        for column in ("levels", "runs", "fit"):
+            assert got[key][column] == row[column], (key, column)
+        for column in ("extrapolated", "extrapolated_se", "slope", "scatter"):
+            assert float(got[key][column]) == pytest.approx(float(row[column]), nan_ok=True), \
+                (key, column)
+    assert float(got[("sigma_eff_over_sigma_unit", "0.13", "1.0")]["extrapolated"]) \
+        == pytest.approx(TRUE_S)
+    rows = read_rows(os.path.join(out, "results.csv"))
+    assert sorted({r["study"] for r in rows}) == sorted(parts)
+    with open(os.path.join(out, "convergence.md")) as f:
+        assert f.read().startswith("# Convergence in L_n: study coarse + fine")
+    with open(os.path.join(out, "sources.json")) as f:
+        assert [s["runs"] for s in json.load(f)["studies"]] == [8, 2]
+    with open(os.path.join(out, "figures", "convergence_strength.png"), "rb") as f:
+        assert f.read(8) == b"\x89PNG\r\n\x1a\n"
+
+
+def test_combining_refuses_a_run_twice_other_physics_and_ungathered_folders(tmp_path, capsys,
+                                                                         monkeypatch):
+    coarse = gathered(tmp_path, COARSE, "coarse", monkeypatch)
+    out = str(tmp_path / "combined")
+    assert study_combine.main([out, coarse, coarse]) == 1
+    assert "give each run once" in capsys.readouterr().err
+    other = gathered(tmp_path, FINE + "phases: {E_p: 2.0, E_m: 1.0, E_pp: 1.0, E_pm: 1.0, "
+                     "sigma_p: 0.01}\n", "other", monkeypatch)
+    assert study_combine.main([out, coarse, other]) == 1
+    assert "differ in their phases" in capsys.readouterr().err
+    bare = fake_study(tmp_path, FINE, "bare").out
+    assert study_combine.main([out, coarse, bare]) == 1
+    err = capsys.readouterr().err
+    assert "results.csv does not exist: run tools/study.py gather" in err
+    assert not os.path.exists(os.path.join(out, "convergence.csv"))
 
 
 def test_the_convergence_panel_draws_the_paper_mark_at_its_value():

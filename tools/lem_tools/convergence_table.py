@@ -225,23 +225,23 @@ def level_label(level, axis):
         else "%g bonds" % level
 
 
-def markdown(results, labels, study, level_l_n):
-    """convergence.md: one table per quantity, a row per point of the grid,
-    a column per resolution (mean ± standard deviation of single runs, and
-    their number), then the extrapolation."""
+def markdown(results, labels, spec, level_l_n, made_by="tools/study.py gather"):
+    """convergence.md of the study `spec`: one table per quantity, a row per
+    point of the grid, a column per resolution (mean ± standard deviation of
+    single runs, and their number), then the extrapolation."""
 
-    axis, levels = bond_axis(study.spec)
-    particles = study.spec["sample"].get("sample_particles", DEFAULT_SAMPLE_PARTICLES)
+    axis, levels = bond_axis(spec)
+    particles = spec["sample"].get("sample_particles", DEFAULT_SAMPLE_PARTICLES)
     ordered = sorted(levels, key=lambda v: -level_l_n.get(v, 0.0))
-    lines = ["# Convergence in L_n: study %s" % study.spec["name"], "",
-             "Made by `tools/study.py gather`. L_n = M^(-1/3), M the lattice's bonds "
+    lines = ["# Convergence in L_n: study %s" % spec["name"], "",
+             "Made by `%s`. L_n = M^(-1/3), M the lattice's bonds "
              "(columns: its mean over the replicates). Each cell: mean ± standard deviation "
              "of single runs (number of runs). L_n → 0: intercept of the linear fit ± its "
              "standard error. *error*: finest mean minus the extrapolated value, relative. "
              "*scatter ≥ error from*: the coarsest resolution from which on a single run's "
              "scatter is at least its distance to the extrapolated value; L_n\\*: where the "
              "fitted line is one scatter (pooled standard deviation) away from its intercept; "
-             "docs/convergence-study.md.", ""]
+             "docs/convergence-study.md." % made_by, ""]
     for quantity, _, heading in labels:
         keys = sorted((k for k in results if k[0] == quantity),
                       key=lambda k: (k[1], -1 if k[2] is None else k[2]))
@@ -303,25 +303,25 @@ def figures_lattices(study, complete=None):
                           if l is not reference and l["level"] == reference["level"]]
 
 
-def write_convergence(study, run_rows, samples):
+def write_convergence(out, spec, run_rows, samples, made_by="tools/study.py gather"):
     """samples.csv, convergence*.csv, convergence.md and the convergence
-    figures of `study`; returns the per-point rows (convergence.csv)."""
+    figures in `out` of the runs and samples of the study `spec`; returns the
+    per-point rows (convergence.csv)."""
     from . import convergence_plots
 
-    write_csv(os.path.join(study.out, "samples.csv"), SAMPLE_COLUMNS, samples)
+    write_csv(os.path.join(out, "samples.csv"), SAMPLE_COLUMNS, samples)
     results = analyse(collect_points(run_rows, samples))
-    particles = study.spec["sample"].get("sample_particles", DEFAULT_SAMPLE_PARTICLES)
+    particles = spec["sample"].get("sample_particles", DEFAULT_SAMPLE_PARTICLES)
     points = point_rows(results, particles)
-    write_csv(os.path.join(study.out, "convergence_levels.csv"), LEVEL_COLUMNS,
-              level_rows(results))
-    write_csv(os.path.join(study.out, "convergence.csv"), POINT_COLUMNS, points)
+    write_csv(os.path.join(out, "convergence_levels.csv"), LEVEL_COLUMNS, level_rows(results))
+    write_csv(os.path.join(out, "convergence.csv"), POINT_COLUMNS, points)
     level_l_n = {}
     for s in samples:
         if math.isfinite(s["L_n"]):
             level_l_n.setdefault(s["level"], []).append(s["L_n"])
     level_l_n = {k: sum(v) / len(v) for k, v in level_l_n.items()}
-    with atomic_open(os.path.join(study.out, "convergence.md")) as f:
-        f.write(markdown(results, SAMPLE_QUANTITIES + RUN_QUANTITIES, study, level_l_n))
+    with atomic_open(os.path.join(out, "convergence.md")) as f:
+        f.write(markdown(results, SAMPLE_QUANTITIES + RUN_QUANTITIES, spec, level_l_n, made_by))
     convergence_plots.draw_all(results, SAMPLE_QUANTITIES, RUN_QUANTITIES, level_l_n,
-                               study.spec, particles, os.path.join(study.out, "figures"))
+                               spec, particles, os.path.join(out, "figures"))
     return points

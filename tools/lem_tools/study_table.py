@@ -147,7 +147,7 @@ def gather(study):
           % (len(rows), table, "A = %.3f, k = %.2f" % (fit["A"], fit["k"]) if fit
              else "not fitted: needs two matrix fractions"))
     if axes:
-        extrapolated = convergence_table.write_convergence(study, rows, samples)
+        extrapolated = convergence_table.write_convergence(study.out, study.spec, rows, samples)
         print("gather: %d samples -> samples.csv; %d quantity x grid points -> "
               "convergence.csv, convergence_levels.csv, convergence.md, "
               "figures/convergence_*.png" % (len(samples), len(extrapolated)))
