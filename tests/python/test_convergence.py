@@ -423,6 +423,13 @@ def test_combining_a_split_study_gives_the_extrapolations_of_the_whole(tmp_path,
         assert f.read().startswith("# Convergence in L_n: study coarse + fine")
     with open(os.path.join(out, "sources.json")) as f:
         assert [s["runs"] for s in json.load(f)["studies"]] == [8, 2]
+    # a run left out when its study was gathered is named
+    with open(os.path.join(parts[1], "fit.json")) as f:
+        fit = json.load(f)
+    with open(os.path.join(parts[1], "fit.json"), "w") as f:
+        json.dump(dict(fit, missing_runs=["b80000_p1_rho_0.2800_spm_2.0000"]), f)
+    assert study_combine.main([out] + parts) == 0
+    assert "run b80000_p1_rho_0.2800_spm_2.0000 was not complete" in capsys.readouterr().out
     with open(os.path.join(out, "figures", "convergence_strength.png"), "rb") as f:
         assert f.read(8) == b"\x89PNG\r\n\x1a\n"
 

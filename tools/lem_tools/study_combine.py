@@ -86,8 +86,12 @@ def combine(folders):
             if physics(spec)[part] != wanted:
                 raise ToolError("%s and %s differ in their %s: %s against %s"
                                 % (reference, folder, part, physics(spec)[part], wanted))
+        missing = read_json(os.path.join(folder, "fit.json")).get("missing_runs", []) \
+            if os.path.exists(os.path.join(folder, "fit.json")) else []
+        for run_id in missing:
+            print("combine: %s: run %s was not complete when gathered: left out" % (folder, run_id))
         sources.append({"folder": folder, "study": spec.get("name"), "hash": spec.get("hash"),
-                        "runs": len(run_rows)})
+                        "runs": len(run_rows), "missing_runs": missing})
         for row in run_rows:
             k = tuple(row[c] for c in RUN_KEY)
             if k in runs:
