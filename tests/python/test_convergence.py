@@ -434,12 +434,18 @@ def test_combining_a_split_study_gives_the_extrapolations_of_the_whole(tmp_path,
         assert f.read(8) == b"\x89PNG\r\n\x1a\n"
 
 
-def test_combining_refuses_a_run_twice_other_physics_and_ungathered_folders(tmp_path, capsys,
+def test_combining_refuses_a_run_twice_other_physics_ungathered_and_study_folders(tmp_path, capsys,
                                                                          monkeypatch):
     coarse = gathered(tmp_path, COARSE, "coarse", monkeypatch)
     out = str(tmp_path / "combined")
     assert study_combine.main([out, coarse, coarse]) == 1
     assert "give each run once" in capsys.readouterr().err
+    with open(os.path.join(coarse, "results.csv")) as f:
+        gathered_table = f.read()
+    assert study_combine.main([coarse, coarse]) == 1
+    assert "is a study's folder: combine into a folder of its own" in capsys.readouterr().err
+    with open(os.path.join(coarse, "results.csv")) as f:
+        assert f.read() == gathered_table
     other = gathered(tmp_path, FINE + "phases: {E_p: 2.0, E_m: 1.0, E_pp: 1.0, E_pm: 1.0, "
                      "sigma_p: 0.01}\n", "other", monkeypatch)
     assert study_combine.main([out, coarse, other]) == 1

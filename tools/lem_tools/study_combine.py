@@ -13,6 +13,7 @@ physics: the same sample options, phases and fracture_* options (solver
 and checkpoint options may differ).  A run (matrix fraction, sigma^pm, size,
 pack and lattice seed) may come from one study only; a sample shared by
 two studies (their samples are made from the same options) is counted once.
+OUT_DIR may not be a study's folder (its own tables would be replaced).
 """
 import math
 import os
@@ -112,6 +113,9 @@ def combine(folders):
 
 
 def write(out, folders):
+    if os.path.exists(os.path.join(out, "study.json")):
+        # its results.csv and samples.csv would be replaced by the combined ones
+        raise ToolError("%s is a study's folder: combine into a folder of its own" % out)
     spec, runs, samples, sources = combine(folders)
     os.makedirs(out, exist_ok=True)
     write_table(os.path.join(out, "results.csv"), runs,
