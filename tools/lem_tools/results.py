@@ -115,8 +115,8 @@ def read_json(path):
     return data
 
 
-def _scalar(text):
-    """A summary.csv field as int, float or, failing both, text."""
+def scalar(text):
+    """A CSV field as int, float or, failing both, text."""
     for kind in (int, float):
         try:
             return kind(text)
@@ -183,7 +183,7 @@ def read_summary(path):
     if len(table) != 1:
         raise ResultsError("cannot read %s: %d rows, expected one" % (path, len(table)))
     keys = [re.sub(r"\[.*\]$", "", h) for h in table.header]
-    return {k: _scalar(v) for k, v in zip(keys, table.rows[0])}
+    return {k: scalar(v) for k, v in zip(keys, table.rows[0])}
 
 
 def finite_number(mapping, key):

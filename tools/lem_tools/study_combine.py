@@ -19,26 +19,16 @@ import math
 import os
 
 from . import cli
-from .convergence_table import RUN_AXIS_COLUMNS, SAMPLE_COLUMNS, write_convergence
+from .convergence_table import (RUN_AXIS_COLUMNS, SAMPLE_COLUMNS, optional_json,
+                                write_convergence)
 from .errors import ToolError
 from .files import write_json
-from .results import STUDY_COLUMNS, read_csv, read_json
+from .results import STUDY_COLUMNS, read_csv, read_json, scalar
 from .study_axes import BOND_AXES, bond_axis
 from .study_table import write_table
 
 RUN_KEY = ("rho_m", "sigma_pm_ratio", "level", "pack_seed", "lattice_seed")
 SAMPLE_KEY = ("rho_m", "level", "pack_seed", "lattice_seed")
-
-
-def value(text):
-    """A CSV field as the number gather wrote (integral values as int, so
-    that a size reads 1250, not 1250.0), or the text itself."""
-    try:
-        number = float(text)
-    except ValueError:
-        return text
-    return int(number) if number.is_integer() and "." not in text and "e" not in text.lower() \
-        else number
 
 
 def read_gathered(folder):
@@ -54,7 +44,7 @@ def read_gathered(folder):
         if not os.path.exists(path):
             raise ToolError("%s does not exist: run tools/study.py gather on that study first"
                             % path)
-        tables.append([{k: value(v) for k, v in r.items()}
+        tables.append([{k: scalar(v) for k, v in r.items()}
                        for r in read_csv(path, columns, need_rows=True).records()])
     return spec, tables[0], tables[1]
 
@@ -83,12 +73,12 @@ def combine(folders):
         spec, run_rows, sample_rows = read_gathered(folder)
         if first is None:
             first, reference = spec, folder
+        theirs = physics(spec)
         for part, wanted in physics(first).items():
-            if physics(spec)[part] != wanted:
+            if theirs[part] != wanted:
                 raise ToolError("%s and %s differ in their %s: %s against %s"
-                                % (reference, folder, part, physics(spec)[part], wanted))
-        missing = read_json(os.path.join(folder, "fit.json")).get("missing_runs", []) \
-            if os.path.exists(os.path.join(folder, "fit.json")) else []
+                                % (reference, folder, part, theirs[part], wanted))
+        missing = optional_json(os.path.join(folder, "fit.json")).get("missing_runs", [])
         for run_id in missing:
             print("combine: %s: run %s was not complete when gathered: left out" % (folder, run_id))
         sources.append({"folder": folder, "study": spec.get("name"), "hash": spec.get("hash"),
