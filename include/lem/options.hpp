@@ -90,8 +90,11 @@ class OptionGroup {
 };
 
 /// Before PETSc starts: the first -options_file / -options_file_yaml of the
-/// command line that names no readable file, as an error message naming it
-/// ("" if there is none).  PETSc itself would fail with a trace.
+/// command line or PETSC_OPTIONS, or of an options file they name (followed
+/// to any depth), that names no readable file, a file that includes itself
+/// or files nested more than 8 deep, as an error message naming it ("" if
+/// there is none).  PETSc itself would fail with a trace, or recurse until
+/// the stack overflows.
 std::string unreadable_options_file(int argc, char** argv);
 
 /// Before any work: every option in the database must be one the program
