@@ -13,6 +13,7 @@
 
 #include <mpi.h>
 
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -27,6 +28,8 @@ namespace lem {
 /// is renamed onto `path`.  Throws IoError naming `path` on any failure
 /// (and removes the temporary file).
 void write_text_file_atomically(const std::string& path, const std::string& text);
+/// The same for `size` bytes at `data`.
+void write_file_atomically(const std::string& path, const void* data, std::size_t size);
 
 /// Publish a complete file written under a temporary name `from` (in the
 /// same directory as `to`): sync it, rename it onto `to`, sync the directory.

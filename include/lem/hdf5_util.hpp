@@ -52,6 +52,22 @@ class Handle {
   Closer closer_ = nullptr;
 };
 
+/// The innermost message of HDF5's current error stack ("" if none).
+std::string error_text();
+
+/// HDF5 prints no error stack while this lives (the caller reports errors).
+class QuietErrors {
+ public:
+  QuietErrors();
+  ~QuietErrors();
+  QuietErrors(const QuietErrors&) = delete;
+  QuietErrors& operator=(const QuietErrors&) = delete;
+
+ private:
+  H5E_auto2_t function_ = nullptr;
+  void* data_ = nullptr;
+};
+
 /// Scalar attributes of `location`; false if HDF5 reported an error.
 bool write_string_attribute(hid_t location, const std::string& name, const std::string& value);
 bool write_numeric_attribute(hid_t location, const std::string& name, hid_t file_type,

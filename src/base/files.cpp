@@ -47,6 +47,10 @@ std::string directory_of(const std::string& path) {
 }  // namespace
 
 void write_text_file_atomically(const std::string& path, const std::string& text) {
+  write_file_atomically(path, text.data(), text.size());
+}
+
+void write_file_atomically(const std::string& path, const void* data, std::size_t size) {
   const std::string tmp = path + ".tmp";
   const auto fail = [&](const std::string& why) {
     std::error_code ec;
@@ -55,9 +59,10 @@ void write_text_file_atomically(const std::string& path, const std::string& text
   };
   const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd < 0) fail("cannot create '" + tmp + "': " + last_error());
+  const char* bytes = static_cast<const char*>(data);
   std::size_t written = 0;
-  while (written < text.size()) {
-    const ssize_t n = ::write(fd, text.data() + written, text.size() - written);
+  while (written < size) {
+    const ssize_t n = ::write(fd, bytes + written, size - written);
     if (n < 0 && errno == EINTR) continue;
     if (n < 0) {
       const std::string why = last_error();

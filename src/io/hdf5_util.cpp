@@ -20,6 +20,27 @@ namespace h5 {
 const char* const kProvenanceNames[6] = {"program", "version",    "git_hash",
                                          "options", "start_time", "ranks"};
 
+std::string error_text() {
+  std::string text;
+  // Upward: the most specific error first.
+  H5Ewalk2(
+      H5E_DEFAULT, H5E_WALK_UPWARD,
+      [](unsigned, const H5E_error2_t* error, void* data) -> herr_t {
+        auto& found = *static_cast<std::string*>(data);
+        if (found.empty() && error->desc && *error->desc) found = error->desc;
+        return 0;
+      },
+      &text);
+  return text;
+}
+
+QuietErrors::QuietErrors() {
+  H5Eget_auto2(H5E_DEFAULT, &function_, &data_);
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+}
+
+QuietErrors::~QuietErrors() { H5Eset_auto2(H5E_DEFAULT, function_, data_); }
+
 bool write_string_attribute(hid_t location, const std::string& name, const std::string& value) {
   Handle type(H5Tcopy(H5T_C_S1), H5Tclose);
   if (!type.valid()) return false;

@@ -30,6 +30,7 @@
 #include "lem/files.hpp"
 #include "lem/hdf5_util.hpp"
 #include "lem/options.hpp"
+#include "lem/write_watch.hpp"
 
 namespace lem {
 namespace {
@@ -86,17 +87,32 @@ struct LocalError {
 void raise_collectively(MPI_Comm comm, const LocalError& error) { agree_on_error(comm, error.first); }
 
 /// Run `work` on every rank; if it fails (returns false or throws) anywhere,
-/// every rank throws std::runtime_error("<what>").
+/// every rank throws IoError("<what>: <why>") of the lowest failing rank.
+/// The failure is noted in the write's watch first: the library may hold
+/// some rank in its own collective calls from here on (closing the file).
 void collective_step(MPI_Comm comm, const std::string& what, const std::function<bool()>& work) {
-  run_collectively(comm, [&] {
-    bool ok = false;
-    try {
-      ok = work();
-    } catch (const std::exception&) {
-      ok = false;
-    }
-    if (!ok) throw std::runtime_error(what);
-  });
+  try {
+    run_collectively(comm, [&] {
+      bool ok = false;
+      try {
+        ok = work();
+      } catch (const std::exception&) {
+        ok = false;
+      }
+      if (ok) return;
+      std::string why = WriteWatch::first_error();  // MPI-IO's, the most telling
+      if (why.empty()) {
+        why = h5::error_text();
+        why = (why.empty() ? "HDF5 reported an error" : why) + WriteWatch::space_left();
+      }
+      const std::string message = what + ": " + why;
+      WriteWatch::note_error(message);
+      throw IoError(message);
+    });
+  } catch (const std::exception& e) {
+    WriteWatch::note_error(e.what());
+    throw;
+  }
 }
 
 // ---------------------------------------------------------------------------
@@ -288,6 +304,7 @@ void write_hdf5(MPI_Comm comm, const std::string& path, const NodeSlice& nodes,
     return node_group.valid() && bond_group.valid();
   });
 
+  fault_stall(comm, path);
   const hsize_t local_nodes = static_cast<hsize_t>(nodes.coords.size());
   const hsize_t local_bonds = static_cast<hsize_t>(bonds.ends.size());
   const Slab node_rows{h(layout.nodes), h(layout.node_offset), local_nodes, 0};
@@ -507,7 +524,10 @@ void write_lattice_fields(MPI_Comm comm, const std::string& stem, const NodeSlic
   }
   raise_collectively(comm, error);
 
-  // 6. The HDF5 file, under its temporary name.
+  // 6. The HDF5 file, under its temporary name; errors are ours to report
+  // (HDF5 would print its stack on every rank).
+  const WriteWatch watch(comm, h5_path, tmp_path);
+  const h5::QuietErrors quiet;
   try {
     write_hdf5(comm, tmp_path, nodes, bonds, layout, prov, root_scalars);
   } catch (...) {

@@ -25,23 +25,6 @@ namespace {
 namespace fs = std::filesystem;
 using h5::Handle;
 
-/// Silences HDF5's automatic error-stack printing for its lifetime: every
-/// failure is reported by our own message instead.
-class QuietHdf5 {
- public:
-  QuietHdf5() {
-    H5Eget_auto2(H5E_DEFAULT, &function_, &data_);
-    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  }
-  ~QuietHdf5() { H5Eset_auto2(H5E_DEFAULT, function_, data_); }
-  QuietHdf5(const QuietHdf5&) = delete;
-  QuietHdf5& operator=(const QuietHdf5&) = delete;
-
- private:
-  H5E_auto2_t function_ = nullptr;
-  void* data_ = nullptr;
-};
-
 // ---------------------------------------------------------------------------
 // Scalar attributes: one list, used by the writer and the reader
 // ---------------------------------------------------------------------------
@@ -139,8 +122,14 @@ std::uint8_t node_phase_code(const NodePhases& np, std::size_t n) {
 
 class SampleWriter {
  public:
+  // The file is made in memory and written out by write_file_atomically: an
+  // I/O error then never reaches HDF5, whose file object a failed close
+  // leaves behind (and crashes on when MPI ends).
   SampleWriter(const std::string& path, const std::string& label) : label_(label) {
-    file_ = Handle(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
+    const Handle access(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
+    check(access.valid() && H5Pset_fapl_core(access.get(), kImageIncrement, false) >= 0,
+          "set up the file in memory");
+    file_ = Handle(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access.get()), H5Fclose);
     check(file_.valid(), "create the file");
     // Shipped samples should be small; fall back to plain storage if this
     // HDF5 build lacks zlib.
@@ -207,11 +196,21 @@ class SampleWriter {
           "write attribute " + name);
   }
 
-  void close() { check(file_.close(), "close the file"); }
+  /// The whole file, closed.
+  std::vector<char> close() {
+    check(H5Fflush(file_.get(), H5F_SCOPE_GLOBAL) >= 0, "flush the file");
+    const ssize_t size = H5Fget_file_image(file_.get(), nullptr, 0);
+    check(size > 0, "measure the file");
+    std::vector<char> image(static_cast<std::size_t>(size));
+    check(H5Fget_file_image(file_.get(), image.data(), image.size()) == size, "copy the file");
+    check(file_.close(), "close the file");
+    return image;
+  }
 
  private:
+  static constexpr std::size_t kImageIncrement = std::size_t(1) << 20;
   void check(bool ok, const std::string& what) const {
-    if (!ok) throw InputError("cannot write sample file " + label_ + ": HDF5 could not " + what);
+    if (!ok) throw IoError("cannot write sample file " + label_ + ": HDF5 could not " + what);
   }
   std::string label_;
   Handle file_;
@@ -228,8 +227,9 @@ void check_sizes(const CementedSample& s) {
                                 std::to_string(m) + " bonds)");
 }
 
-void write_hdf5(const std::string& path, const std::string& label, const CementedSample& s,
-                const CementedSampleSpec& spec, const Provenance& provenance) {
+std::vector<char> write_hdf5(const std::string& path, const std::string& label,
+                             const CementedSample& s, const CementedSampleSpec& spec,
+                             const Provenance& provenance) {
   SampleWriter w(path, label);
   w.text("format", kSampleFormat);
   w.number("format_version", static_cast<std::int64_t>(kSampleFormatVersion));
@@ -295,7 +295,7 @@ void write_hdf5(const std::string& path, const std::string& label, const Cemente
   if (!h5::write_provenance_attributes(w.file(), provenance))
     throw InputError("cannot write sample file " + label + ": HDF5 could not write the "
                      "provenance attributes");
-  w.close();
+  return w.close();
 }
 
 // One grid per XDMF file (meshio reads no more): <stem>.xmf the bonds with
@@ -570,16 +570,13 @@ void write_sample(const std::string& stem, const CementedSample& sample,
     throw InputError("write_sample: output stem '" + stem +
                      "' must name a file (e.g. meshes/tiny), not be empty or end in '/'");
   const std::string h5_path = stem + ".h5";
-  const std::string tmp_path = h5_path + ".tmp";
-  const QuietHdf5 quiet;
-  try {
-    write_hdf5(tmp_path, "'" + h5_path + "'", sample, spec, provenance);
-  } catch (...) {
-    std::error_code ec;
-    fs::remove(tmp_path, ec);
-    throw;
+  const std::string memory_name = h5_path + ".tmp";  // never on disk
+  std::vector<char> image;
+  {
+    const h5::QuietErrors quiet;
+    image = write_hdf5(memory_name, "'" + h5_path + "'", sample, spec, provenance);
   }
-  move_into_place(tmp_path, h5_path);
+  write_file_atomically(h5_path, image.data(), image.size());
   const SampleXdmf xdmf = sample_xdmf(fs::path(h5_path).filename().string(), sample);
   write_text_file_atomically(stem + ".xmf", xdmf.bonds);
   write_text_file_atomically(stem + "_nodes.xmf", xdmf.nodes);
@@ -587,7 +584,7 @@ void write_sample(const std::string& stem, const CementedSample& sample,
 }
 
 SampleFile read_sample_file(const std::string& path) {
-  const QuietHdf5 quiet;
+  const h5::QuietErrors quiet;
   return read_everything(path);
 }
 
