@@ -77,8 +77,12 @@ int main(int argc, char** argv) {
     {
       lem::OptionGroup g(comm, "Stiffness against matrix fraction");
       fractions = g.positive_reals("-stiffness_fractions", "Matrix fractions rho^m to run (the "
-                                   "paper's eight by default); -matrix_fraction is ignored",
+                                   "paper's eight by default; -matrix_fraction has no use "
+                                   "here and is refused)",
                                    {0.06, 0.1, 0.13, 0.17, 0.2, 0.22, 0.24, 0.28}, true);
+      if (g.given("-matrix_fraction"))
+        throw lem::InputError("option -matrix_fraction has no use in lem_stiffness, which makes "
+                              "a sample at each of -stiffness_fractions: give it there");
       dir = g.string("-output_dir", "Directory of the results", "results/stiffness");
       halved_faces = lem::read_face_bond_option(g);
     }

@@ -44,6 +44,22 @@ std::string directory_of(const std::string& path) {
   return parent.empty() ? std::string(".") : parent.string();
 }
 
+// Create the output folder `dir` (and its parents); InputError naming it if
+// that fails.  A dangling symbolic link is named as such: creating the folder
+// fails there with a bare "File exists".
+void create_output_dir(const std::string& dir) {
+  std::error_code ec;
+  const auto link = fs::symlink_status(dir, ec);
+  if (fs::is_symlink(link) && !fs::exists(fs::status(dir, ec)))
+    throw InputError("output directory '" + dir + "' is a dangling symbolic link (to '" +
+                     fs::read_symlink(dir, ec).string() + "', which does not exist): create "
+                     "the folder it points to, or choose another -output_dir");
+  fs::create_directories(dir, ec);
+  if (ec || !fs::is_directory(dir))
+    throw InputError("output directory '" + dir + "' cannot be created: " +
+                     (ec ? ec.message() : std::string("a file of that name is in the way")));
+}
+
 }  // namespace
 
 void write_text_file_atomically(const std::string& path, const std::string& text) {
@@ -101,10 +117,8 @@ void sync_directory(const std::string& dir) {
 void prepare_output_dir(MPI_Comm comm, const std::string& dir,
                         const std::vector<std::string>& result_files) {
   run_on_root(comm, [&] {
+    create_output_dir(dir);
     std::error_code ec;
-    fs::create_directories(dir, ec);
-    if (ec || !fs::is_directory(dir))
-      throw InputError("output directory '" + dir + "' cannot be created: " + ec.message());
     for (const auto& f : result_files) fs::remove(dir + "/" + f, ec);
   });
 }
@@ -118,10 +132,7 @@ OutputLock::OutputLock(MPI_Comm comm, const std::string& dir) {
     // between our open and our lock, and takes the one now at the path.
     const std::string path = dir + "/" + kLockName;
     for (int attempt = 0;; ++attempt) {
-      std::error_code ec;
-      fs::create_directories(dir, ec);
-      if (ec || !fs::is_directory(dir))
-        throw InputError("output directory '" + dir + "' cannot be created: " + ec.message());
+      create_output_dir(dir);
       fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
       if (fd_ < 0)
         throw InputError("output directory '" + dir + "': cannot open its lock file '" + path +

@@ -39,10 +39,12 @@ SampleOptions read_sample_options(MPI_Comm comm) {
                            "lattice and its phases (bond moduli: -phase_E_*)");
   }
   o.phases = read_phase_table(comm);
-  if (o.sample_file.empty() && (o.phases.modulus != PhaseTable{}.modulus ||
-                                o.phases.strength != PhaseTable{}.strength))
-    throw InputError("options -phase_* set the bonds of a cemented sample and need "
-                     "-sample_file");
+  // Asked of the options database: a value equal to the default is given too.
+  if (o.sample_file.empty())
+    for (const OptionRecord& r : registered_options())
+      if (r.given && r.name.rfind("-phase_", 0) == 0)
+        throw InputError("option " + r.name + " sets the bonds of a cemented sample and needs "
+                         "-sample_file");
   {
     OptionGroup g(comm, "Lattice");
     o.lattice_type = g.choice<LatticeType>("-lattice_type", "Lattice geometry",
