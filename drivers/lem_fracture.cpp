@@ -286,6 +286,22 @@ lem::Calibration calibrate(MPI_Comm comm, const lem::SampleOptions& sample,
   }
   warnings = hom_case.result.warnings;
   lem::run_on_root(comm, [&] { lem::remove_checkpoint(hom_options.output_dir); });
+  // A calibration is the peak of the homogeneous lattice: bonds broke and
+  // the stress fell after it.  Anything else is not sigma^[p] and is never
+  // stored (a later run would reuse it).
+  const lem::FractureResult& r = hom_case.result;
+  if (!r.past_peak()) {
+    std::ostringstream why;
+    why << "the calibration of sigma^[p] reached no peak: it ended at load step " << r.steps
+        << " (" << r.end_reason << ") with " << r.broken_total() << " bonds broken and the "
+        << "stress " << (r.final_stress < r.peak_stress ? "below" : "at") << " its largest value, "
+        << r.peak_stress * hom_case.stress_unit << " E^phase; load steps of -fracture_increment "
+        << "= " << options.increment << " a do not reach the strength of the homogeneous lattice "
+        << "(-phase_sigma_p = " << sample.phases.strength[0] << ") within "
+        << hom_options.max_steps << " steps: raise -fracture_increment (the paper's is "
+        << "3e-4), or check -phase_sigma_p. Nothing was stored";
+    throw lem::InputError(why.str());
+  }
   lem::Calibration c;
   c.sigma_hom = hom_case.result.peak_stress * hom_case.stress_unit;
   c.e_hom = hom_case.result.young_modulus * hom_case.stress_unit;

@@ -49,6 +49,9 @@ struct FractureResult : FractureTally {
   double seconds = 0;
   bool resumed = false;
   std::vector<RunWarning> warnings;  // degradations seen (docs/fracture.md, "Warnings")
+  /// Bonds broke and the stress fell after its peak: the peak is the
+  /// lattice's strength, not the last load reached.
+  bool past_peak() const { return broken_total() > 0 && final_stress < peak_stress; }
 };
 
 /// Runs the protocol on an assembled system.  Writes <output_dir>/curve.csv,

@@ -277,10 +277,8 @@ FractureResult Protocol::run() {
           : 0.0;
   // Before the logs are renamed: under -fracture_strict a warning leaves no
   // result that looks finished.
-  const bool past_peak =
-      !ledger_.history().bond_events.empty() && r.stress_zz < tally_.peak_stress;
   result.peak_step = tally_.strain_at_peak / strain_of(1);
-  warnings_.at_end(tally_, result.energy_balance_error, result.peak_step, past_peak);
+  warnings_.at_end(tally_, result.energy_balance_error, result.peak_step, result.past_peak());
   result.warnings = warnings_.list();
 
   // Complete: move the logs into place; the caller commits the results and

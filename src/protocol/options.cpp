@@ -15,13 +15,24 @@ const char* name_of(RelaxationScheme scheme) {
   return scheme == RelaxationScheme::global ? "global" : "local";
 }
 
+namespace {
+// The smallest -fracture_increment (in a) whose steps the protocol resolves
+// (the option's help says why).
+constexpr double kMinIncrement = 1e-7;
+}  // namespace
+
 FractureOptions read_fracture_options(MPI_Comm comm) {
   FractureOptions o;
   {
     OptionGroup g(comm, "Fracture protocol (paper sect. 2.3, appendix A)");
     o.increment = g.real("-fracture_increment", "Top displacement added per load step, in "
-                         "units of the mean bond length a (paper: 3e-4)", o.increment, 0.0,
-                         0.01, true);
+                         "units of the mean bond length a (paper: 3e-4).  At least 1e-7: the "
+                         "first ruptures of the smallest samples (a strain of about 1e-3 over "
+                         "about 10 a) would otherwise come after more than 1e5 load steps, where "
+                         "one step changes the bond forces by less than the near-tie band "
+                         "(-fracture_tie_band x -ksp_rtol = 1e-5 of the mean threshold), so the "
+                         "solver's error and not the load would decide the ruptures",
+                         o.increment, kMinIncrement, 0.01);
     o.break_rule = g.choice<BreakRule>(
         "-fracture_break_rule", "Which critical bonds break in a relaxation cycle: all (paper) "
         "or the most critical only",
@@ -33,7 +44,17 @@ FractureOptions read_fracture_options(MPI_Comm comm) {
                              1.0, true, true);
     o.max_strain_ratio = g.real("-fracture_max_strain_ratio", "End the run once the strain "
                                 "exceeds this multiple of the strain at the peak (the slow "
-                                "post-failure tail; 0: no limit)", o.max_strain_ratio, 0.0, 1e9);
+                                "post-failure tail; 0: no limit).  Above 1: at 1 or less the "
+                                "run would end at the peak itself, before the stress can fall "
+                                "after it", o.max_strain_ratio, 0.0, 1e9);
+    if (o.max_strain_ratio != 0 && !(o.max_strain_ratio > 1))
+    {
+      std::ostringstream s;
+      s << "option -fracture_max_strain_ratio = " << o.max_strain_ratio << " is out of range: "
+        << "allowed 0 (no limit) or above 1 (at 1 or less the run ends at its peak, before the "
+        << "stress can fall after it)";
+      throw InputError(s.str());
+    }
     o.max_steps = g.integer("-fracture_max_steps", "Largest load step (the run ends there)",
                             o.max_steps, 1, 1'000'000'000);
     o.rebuild_after_ruptures = g.integer(
