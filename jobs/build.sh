@@ -3,6 +3,8 @@
 # on Debian.  Without dpkg (another Linux, a cluster) nothing is installed:
 # load your PETSc, MPI, HDF5, CGAL and METIS (docs/building.md) and the
 # build, or an existing build/, is used as it is.
+#   bash jobs/build.sh                 every target: drivers and tests
+#   bash jobs/build.sh lem_fracture    only the named targets (and what they need)
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 if command -v dpkg-query > /dev/null; then
@@ -10,7 +12,9 @@ if command -v dpkg-query > /dev/null; then
 else
   echo "build.sh: no dpkg on this host: jobs/install-deps.sh skipped (docs/building.md)" >&2
 fi
+targets=()
+for t in "$@"; do targets+=(--target "$t"); done
 cmake -S "$root" -B "$root/build" -DCMAKE_BUILD_TYPE=Release > "$root/build.log" 2>&1 ||
   { tail -30 "$root/build.log" >&2; exit 1; }
-cmake --build "$root/build" -j "$(nproc)" >> "$root/build.log" 2>&1 ||
+cmake --build "$root/build" -j "$(nproc)" "${targets[@]}" >> "$root/build.log" 2>&1 ||
   { grep -E "error|Error" -A5 "$root/build.log" | head -60 >&2; exit 1; }

@@ -20,7 +20,7 @@ root="$(cd "$(dirname "$0")/.." && pwd)"
 bin=build
 [ -z "${LEM_BIN:-}" ] || bin="$(realpath "$LEM_BIN")"
 if [ -e "$root/CMakeLists.txt" ]; then  # a source tree: run in it, as always
-  [ -n "${LEM_BIN:-}" ] || bash "$root/jobs/build.sh"
+  [ -n "${LEM_BIN:-}" ] || bash "$root/jobs/build.sh" lem_fracture  # the tests build with jobs/test.sh
   cd "$root"
   root=.
   args=(-options_file jobs/main.opts)

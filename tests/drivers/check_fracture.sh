@@ -20,7 +20,7 @@
 #                   rupture sequences of the calibration and of the sample
 #                   are the same; curves within 1e-6 of the peak up to it,
 #                   1e-5 after
-#   deflation       shipped tiny sample: -solver_particle_deflation, stopped on
+#   deflation       shipped mini sample: -solver_particle_deflation, stopped on
 #                   2 ranks and resumed on 1, breaks the bonds the plain
 #                   multigrid breaks on 2, in the same order
 #   node_stress     shipped tiny sample: the node stresses of elastic.h5 (eq. 1)
@@ -246,14 +246,14 @@ restart_ranks)
   echo "ok: $(grep '^resumed' "$work/cut/log") on 1 rank; the same $(summary "$work/cut" broken) ruptures"
   ;;
 deflation)
-  # The shipped tiny cemented sample to 1.5 times its peak strain: with the
-  # per-particle deflation (-solver_particle_deflation) a 2-rank run stopped
-  # by SIGUSR1 and resumed on 1 rank breaks the bonds the plain multigrid
-  # breaks on 2 ranks, in the same order, with the same curve (within the
-  # solver tolerance).
+  # The shipped mini cemented sample (27 particles, 1 434 ruptures) to 1.5
+  # times its peak strain: with the per-particle deflation
+  # (-solver_particle_deflation) a 2-rank run stopped by SIGUSR1 and resumed
+  # on 1 rank breaks the bonds the plain multigrid breaks on 2 ranks, in the
+  # same order, with the same curve (within the solver tolerance).
   root="$(cd "$(dirname "$0")/../.." && pwd)"
   # shellcheck disable=SC2206
-  case_args=(-sample_file "$root/meshes/tiny.h5" -fracture_calibrate 0
+  case_args=(-sample_file "$root/meshes/mini.h5" -fracture_calibrate 0
              -fracture_max_strain_ratio 1.5 -output_fields false ${LEM_CASE_ARGS:-})
   args=(-checkpoint_steps 4 -checkpoint_seconds 0)
   run 2 "$work/plain" "${args[@]}" || fail "plain run: $(tail -3 "$work/plain/log")"

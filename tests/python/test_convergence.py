@@ -305,6 +305,7 @@ def read_rows(path):
         return list(csv.DictReader(f))
 
 
+@pytest.mark.long  # draws every figure of a study: 5-8 s
 def test_gather_extrapolates_every_point(tmp_path, capsys):
     s = fake_study(tmp_path)
     assert s.status() == {"complete": 10 + 20, "failed": 0, "pending": 0}
@@ -351,6 +352,7 @@ def test_gather_extrapolates_every_point(tmp_path, capsys):
     assert "convergence.csv" in capsys.readouterr().out
 
 
+@pytest.mark.long  # draws every figure of a study: 5-8 s
 def test_gather_reports_a_missing_elastic_pull(tmp_path, capsys):
     s = fake_study(tmp_path)
     pull = s.elastic_pulls()[0]
@@ -395,6 +397,7 @@ def gathered(tmp_path, text, name, monkeypatch):
     return s.out
 
 
+@pytest.mark.long  # draws every figure of a study: 5-8 s
 def test_combining_a_split_study_gives_the_extrapolations_of_the_whole(tmp_path, capsys,
                                                                       monkeypatch):
     whole = gathered(tmp_path, SMALL, "whole", monkeypatch)

@@ -248,6 +248,7 @@ def replicated_study(tmp_path):
     return s
 
 
+@pytest.mark.long  # draws every figure of a study: 5-8 s
 def test_gather_draws_and_fits_the_replicate_means(tmp_path, monkeypatch, close_figures):
     s = replicated_study(tmp_path)
     saved = {}
@@ -292,6 +293,7 @@ def test_gather_draws_and_fits_the_replicate_means(tmp_path, monkeypatch, close_
     assert len(saved["damage.png"].axes[0].get_lines()) == 3 * 3
 
 
+@pytest.mark.long  # draws every figure of a study: 5-8 s
 def test_gather_before_the_finest_runs_draws_the_finest_complete_size(tmp_path):
     """A gather while the finest size's runs are still to come (a study cut
     short, or still running) draws the paper's figures at the finest size
@@ -310,6 +312,7 @@ def test_gather_before_the_finest_runs_draws_the_finest_complete_size(tmp_path):
     assert os.path.getsize(os.path.join(s.out, "figures", "strength.png")) > 0
 
 
+@pytest.mark.long  # draws every figure of a study: 5-8 s
 def test_gather_draws_the_finest_size_whose_grid_is_whole(tmp_path):
     """One run missing at the finest size: the figures come from the size
     below, whose every grid point is there, not from part of a grid."""
