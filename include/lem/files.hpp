@@ -63,13 +63,24 @@ class OutputLock {
   int fd_ = -1;
 };
 
+/// CRC-32 (IEEE 802.3, as zlib.crc32 and `gzip`) of `n` bytes, continuing
+/// from `crc` (0 to start).
+std::uint32_t crc32(const void* data, std::size_t n, std::uint32_t crc = 0);
+
+/// The checksum of a file's content, "crc32:<8 hex digits>"; IoError naming
+/// the file if it cannot be read.
+std::string file_checksum(const std::string& path);
+
 /// The commit record of a finished result: <dir>/manifest.txt lists the
 /// program, a fingerprint of what was computed and every result file with
-/// its size in bytes.
+/// its size in bytes and the checksum of its content.
 struct Manifest {
   std::string program;
   std::string fingerprint;  // lines "key=value"
   std::vector<std::pair<std::string, std::int64_t>> files;
+  /// file_checksum of each listed file, by name (none in a manifest
+  /// written before checksums: its files are checked by size only).
+  std::vector<std::pair<std::string, std::string>> checksums;
 };
 
 /// Rank 0: whether `dir` has a manifest (damaged or not).
@@ -79,8 +90,9 @@ bool has_manifest(const std::string& dir);
 /// if it is damaged.
 std::optional<Manifest> read_manifest(const std::string& dir);
 
-/// Rank 0: why the files listed by `m` are not those it committed (missing
-/// or of another size), empty if they are.
+/// Rank 0: why the files listed by `m` are not those it committed (missing,
+/// of another size, or of other content than its checksum), empty if they
+/// are.
 std::string manifest_mismatch(const std::string& dir, const Manifest& m);
 
 /// Rank 0: commit the complete result `files` of `dir` (which must exist):

@@ -25,6 +25,14 @@ std::string without_ranks(const std::string& fingerprint) {
 }
 
 constexpr const char* kFingerprintLine = "# fingerprint:";
+// The last line: the CRC-32 of every line before it.
+constexpr const char* kChecksumLine = "checksum=";
+
+std::string text_checksum(const std::string& text) {
+  char hex[16];
+  std::snprintf(hex, sizeof(hex), "crc32:%08x", crc32(text.data(), text.size()));
+  return hex;
+}
 
 }  // namespace
 
@@ -43,9 +51,14 @@ std::optional<Calibration> read_calibration(MPI_Comm comm, const std::string& pa
   run_on_root(comm, [&] {
     std::ifstream in(path);
     if (!in) return;
-    std::string stored, line, written_by;
+    std::string stored, line, written_by, content, checksum;
     bool have_sigma = false, have_e = false;
     while (std::getline(in, line)) {
+      if (line.rfind(kChecksumLine, 0) == 0) {
+        checksum = line.substr(std::string(kChecksumLine).size());
+        continue;
+      }
+      content += line + "\n";
       if (line.rfind(kFingerprintLine, 0) == 0) {
         stored += line.substr(std::string(kFingerprintLine).size() + 1) + "\n";
       } else if (line.rfind("# written by ", 0) == 0) {
@@ -59,6 +72,20 @@ std::optional<Calibration> read_calibration(MPI_Comm comm, const std::string& pa
     if (!have_sigma || !have_e || !(c.sigma_hom > 0) || !(c.e_hom > 0))
       throw InputError("the calibration file '" + path + "' is damaged (no positive sigma_hom "
                        "and E_hom); remove it to calibrate again");
+    // A value edited by hand would change every normalised stress silently.
+    const std::string actual = text_checksum(content);
+    if (checksum != actual) {
+      std::ostringstream values;
+      values.precision(17);
+      values << "sigma_hom=" << c.sigma_hom << ", E_hom=" << c.e_hom;
+      throw InputError("the calibration file '" + path + "' is not as it was written: " +
+                       (checksum.empty() ? "it has no checksum line (" + actual + " now)"
+                                         : "its content (" + values.str() + ") has the "
+                                           "checksum " + actual + ", the file says " +
+                                           checksum) +
+                       "; remove it to calibrate again (the next run computes and stores "
+                       "sigma^[p] and E^[p] anew)");
+    }
     int other_ranks = 0;
     const std::string differs =
         fingerprint_differences(stored, without_ranks(fingerprint), other_ranks, "file");
@@ -88,6 +115,8 @@ void write_calibration(MPI_Comm comm, const std::string& path, const std::string
         << "sigma_hom=" << c.sigma_hom << "\nE_hom=" << c.e_hom << "\n";
     std::istringstream in(without_ranks(fingerprint));
     for (std::string line; std::getline(in, line);) out << kFingerprintLine << " " << line << "\n";
+    const std::string checksum = text_checksum(out.str());
+    out << kChecksumLine << checksum << "\n";
     write_text_file_atomically(path, out.str());
   });
 }

@@ -39,6 +39,18 @@ run increment -sample_file "$meshes/mini.h5" -fracture_increment 2e-4 &&
   fail "a calibration made with another increment was accepted"
 grep -q "increment=" "$dir/increment.log" || fail "the increment is not named"
 
+# A value edited by hand (the format intact) is refused by the file's
+# checksum, naming the value read and how to recompute.
+cp "$cal" "$cal.orig"
+sed -i 's/^sigma_hom=\(.*\)$/sigma_hom=\1e0/; s/^sigma_hom=0\.0/sigma_hom=0.1/' "$cal"
+cmp -s "$cal" "$cal.orig" && fail "the test did not change sigma_hom"
+run edited -sample_file "$meshes/mini.h5" && fail "a hand-edited calibration file was accepted"
+grep -q "calibration file '$cal' is not as it was written: its content (sigma_hom=" "$dir/edited.log" ||
+  fail "unclear message for an edited file: $(grep -i error "$dir/edited.log" | head -2)"
+grep -q "remove it to calibrate again" "$dir/edited.log" || fail "the message does not say how to recompute"
+[ -e "$dir/edited/summary.json" ] && fail "a refused run left a summary"
+cp "$cal.orig" "$cal"
+
 # A damaged file is refused.
 sed -i '/^sigma_hom=/d' "$cal"
 run damaged -sample_file "$meshes/mini.h5" && fail "a damaged calibration file was accepted"

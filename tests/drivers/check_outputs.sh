@@ -7,6 +7,10 @@
 #   rerun          the same command again says the result is complete and
 #                  computes nothing; -output_overwrite computes it again
 #   concurrent     a run on a folder locked by another run is refused (exit 1)
+#   changed_content a finished result whose file changed at the same size
+#                  (one byte of curve.csv, of fields.h5) is refused by the
+#                  manifest's checksums, naming the file; -output_overwrite
+#                  computes it again
 #   disk_full      a full disk (a 16 KiB tmpfs) gives exit 3 naming the file
 #                  and no final-looking result; skipped (77) if mount fails
 #   commit_kill    kill -9 at each step of the commit (LEM_FAULT_KILL), then
@@ -114,6 +118,31 @@ rerun)
   same_result "$work/first" "$work/done"
   [ ! -e "$work/done.overwrite" ] || fail "-output_overwrite left its staging folder"
   echo "ok: -output_overwrite computed the same result again"
+  ;;
+changed_content)
+  run "$work/done" || fail "first run: $(tail -3 "$work/done.log")"
+  for f in curve.csv fields.h5; do
+    cp "$work/done/$f" "$work/$f.orig"
+    size=$(stat -c %s "$work/done/$f")
+    # The byte in the middle, changed (and the size kept).
+    offset=$((size / 2))
+    byte=$(od -An -tu1 -j "$offset" -N1 "$work/done/$f" | tr -d ' ')
+    printf "\\$(printf %o $(( (byte + 1) % 256 )))" |
+      dd of="$work/done/$f" bs=1 seek="$offset" conv=notrunc 2> /dev/null
+    [ "$(stat -c %s "$work/done/$f")" = "$size" ] || fail "the test changed the size of $f"
+    cmp -s "$work/done/$f" "$work/$f.orig" && fail "the test did not change $f"
+    run "$work/done"; status=$?
+    [ "$status" -eq 1 ] || fail "$f changed at its size: exit $status, expected 1"
+    grep -q "holds a finished result changed since it was written:" "$work/done.log" &&
+      grep -q "$f has other content than was committed (checksum crc32:[0-9a-f]*, the manifest says crc32:[0-9a-f]*)" "$work/done.log" &&
+      grep -q "pass -output_overwrite to compute it again" "$work/done.log" ||
+      fail "message for $f: $(grep -A2 error "$work/done.log")"
+    echo "ok: $f changed at its size is refused: $(grep 'other content' "$work/done.log")"
+    cp "$work/$f.orig" "$work/done/$f"
+  done
+  run "$work/done" || fail "the restored result: $(tail -3 "$work/done.log")"
+  grep -q "is complete (manifest.txt): nothing to do" "$work/done.log" || fail "the restored result is not complete"
+  echo "ok: restored, the result is complete again"
   ;;
 concurrent)
   mkdir -p "$work/busy"

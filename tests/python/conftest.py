@@ -1,6 +1,7 @@
 """Small result folders written the way lem's drivers write them."""
 import json
 import os
+import zlib
 
 import numpy as np
 import pytest
@@ -51,12 +52,16 @@ def write_fracture_results(directory, summary_extra=None):
     return directory
 
 
-def write_manifest(directory, names):
-    """The manifest lem_fracture writes last, listing `names` with their sizes."""
+def write_manifest(directory, names, checksums=True):
+    """The manifest lem_fracture writes last, listing `names` with their sizes
+    and (unless `checksums` is false, as before checksums) their checksums."""
     with open(os.path.join(directory, "manifest.txt"), "w") as f:
         f.write("program=lem_fracture\n")
         for name in names:
             f.write("file=%s %d\n" % (name, os.path.getsize(os.path.join(directory, name))))
+        for name in names if checksums else ():
+            with open(os.path.join(directory, name), "rb") as g:
+                f.write("checksum=%s crc32:%08x\n" % (name, zlib.crc32(g.read())))
         f.write("fingerprint ranks=1\nend\n")
 
 

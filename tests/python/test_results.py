@@ -7,7 +7,7 @@ import os
 import numpy as np
 import pytest
 
-from conftest import cube_lattice, write_elastic
+from conftest import cube_lattice, write_elastic, write_manifest
 from lem_tools import results
 from lem_tools.results import ResultsError
 
@@ -177,3 +177,19 @@ def test_a_finished_run_is_one_whose_manifest_agrees(fracture_dir):
         results.require_finished(fracture_dir)
     os.remove(manifest)
     assert "holds no finished result" in results.finished_problem(fracture_dir)
+
+
+def test_a_file_changed_at_its_size_is_not_finished(fracture_dir):
+    """The manifest's checksums catch what the sizes cannot."""
+    path = os.path.join(fracture_dir, "curve.csv")
+    with open(path, "r+b") as f:
+        text = f.read()
+        f.seek(0)
+        f.write(text.replace(b"1", b"2", 1))
+    assert os.path.getsize(path) == len(text)
+    with pytest.raises(ResultsError, match="curve.csv has other content than the run wrote "
+                       r"\(checksum crc32:[0-9a-f]{8}, manifest.txt says crc32:[0-9a-f]{8}\)"):
+        results.require_finished(fracture_dir)
+    # A manifest written before checksums: the sizes alone are checked.
+    write_manifest(fracture_dir, ("curve.csv", "broken.csv", "summary.json"), checksums=False)
+    assert results.finished_problem(fracture_dir) is None

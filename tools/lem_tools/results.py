@@ -15,6 +15,7 @@ import json
 import math
 import os
 import re
+import zlib
 
 import numpy as np
 
@@ -151,12 +152,37 @@ def read_manifest(directory):
     return files
 
 
+def read_manifest_checksums(directory):
+    """{file name: "crc32:<hex>"} of the manifest of `directory` (empty for a
+    manifest written before checksums, or none)."""
+    sums = {}
+    try:
+        with open(os.path.join(directory, MANIFEST)) as f:
+            for line in f:
+                if line.startswith("checksum="):
+                    name, _, value = line[len("checksum="):].strip().rpartition(" ")
+                    sums[name] = value
+    except (OSError, UnicodeDecodeError):
+        pass  # read_manifest reports it
+    return sums
+
+
+def file_checksum(path):
+    """"crc32:<8 hex digits>" of the file's content, as lem_fracture writes it."""
+    crc = 0
+    with open(path, "rb") as f:
+        for block in iter(lambda: f.read(1 << 20), b""):
+            crc = zlib.crc32(block, crc)
+    return "crc32:%08x" % crc
+
+
 def finished_problem(directory):
     """Why `directory` holds no finished result, or None if it does."""
     files = read_manifest(directory)
     if files is None:
         return "%s holds no finished result (no %s: the run did not complete)" % (
             directory, MANIFEST)
+    sums = read_manifest_checksums(directory)
     for name, size in files.items():
         path = os.path.join(directory, name)
         if not os.path.isfile(path):
@@ -164,6 +190,9 @@ def finished_problem(directory):
         if os.path.getsize(path) != size:
             return "%s has %d bytes, %s says %d (changed since the run)" % (
                 path, os.path.getsize(path), MANIFEST, size)
+        if name in sums and file_checksum(path) != sums[name]:
+            return "%s has other content than the run wrote (checksum %s, %s says %s)" % (
+                path, file_checksum(path), MANIFEST, sums[name])
     return None
 
 
