@@ -362,10 +362,11 @@ int main(int argc, char** argv) {
                       "stresses of eq. 1 (elastic.h5)", true);
       options.elastic_fields = fields;
       lem::set_write_stop_grace(g.real(
-          "-output_write_grace", "Seconds a collective write of fields may go on after a stop "
-          "request (SIGTERM/SIGUSR1) before the job is ended without it (exit 4; the same "
-          "command resumes from the last checkpoint); a write that failed on some rank ends "
-          "the job after 3 s (exit 3)", lem::write_stop_grace(), 0.0, 86400.0));
+          "-output_write_grace", "Seconds a write that every rank waits for (fields, "
+          "snapshots, a checkpoint, also the one that answers the request) may go on after a "
+          "stop request (SIGTERM/SIGUSR1) before the job is ended without it (exit 4; the "
+          "same command resumes from the last checkpoint on disk); a write that failed on "
+          "some rank ends the job after 3 s (exit 3)", lem::write_stop_grace(), 1.0, 86400.0));
       options.snapshot_steps = g.integer("-output_snapshot_steps", "Also write them (as "
                                          "snapshot_<step>.h5/.xmf) once in every this many "
                                          "load steps (0: never)", 0, 0, 1'000'000'000);

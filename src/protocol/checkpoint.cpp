@@ -6,6 +6,7 @@
 #include "lem/error.hpp"
 #include "lem/files.hpp"
 #include "lem/hdf5_writer.hpp"
+#include "lem/write_watch.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -255,6 +256,9 @@ void CheckpointStore::save(const DamageLedger& ledger) const {
   std::vector<std::int64_t> ids(l.node_id.begin(), l.node_id.begin() + l.owned);
   const auto all_ids = allgather(l.comm, ids);
   const auto all_u = allgather(l.comm, held_.u);
+  // The other ranks wait for rank 0's write: a stop request reaches them
+  // there too (write_watch.hpp).
+  const WriteWatch watch(l.comm, path_, path_ + ".tmp");
   run_on_root(l.comm, [&] {
     Checkpoint c;
     c.state = held_.state;
