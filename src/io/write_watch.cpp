@@ -66,8 +66,9 @@ struct WriteWatch::State {
         char after[32];
         std::snprintf(after, sizeof after, "%g", grace);
         end_job(4, "stopped by " + signal_name(stop_signal_received()) + " while writing '" +
-                       file + "', which had not ended " + after + " s later (-output_write_grace): abandoned, nothing of it is in place; "
-                       "run the same command again to resume from the last checkpoint");
+                       file + "', which had not ended " + after + " s later "
+                       "(-output_write_grace): abandoned, nothing of it is in place; run the "
+                       "same command again to resume from the last checkpoint");
       }
     }
   }
@@ -86,13 +87,17 @@ void record(WriteWatch::State& s, const std::string& why) {
   s.wake.notify_one();
 }
 
+std::string mpi_error_text(int code) {
+  char text[MPI_MAX_ERROR_STRING] = {};
+  int length = 0;
+  MPI_Error_string(code, text, &length);
+  return text;
+}
+
 // MPI-IO's errors, as they arise inside the HDF5 library: the library may
 // never return to us after one.
 extern "C" void note_file_error(MPI_File*, int* code, ...) {
-  char text[MPI_MAX_ERROR_STRING] = {};
-  int length = 0;
-  MPI_Error_string(*code, text, &length);
-  if (WriteWatch::State* s = g_active.load()) record(*s, std::string("MPI-IO: ") + text);
+  if (WriteWatch::State* s = g_active.load()) record(*s, "MPI-IO: " + mpi_error_text(*code));
 }
 
 // A write that MPI-IO cut short: ompio reports a full disk to HDF5 as a
@@ -107,10 +112,7 @@ void check_write(const char* call, int code, int count, MPI_Datatype type,
     return;
   std::string why = call;
   if (code != MPI_SUCCESS) {
-    char text[MPI_MAX_ERROR_STRING] = {};
-    int length = 0;
-    MPI_Error_string(code, text, &length);
-    why += std::string(" failed: ") + text;
+    why += " failed: " + mpi_error_text(code);
   } else {
     why += written == MPI_UNDEFINED
                ? std::string(" wrote only part of its data")
