@@ -18,6 +18,7 @@ set(LEM_LONG_TESTS
   fracture_ranks_mini             # fracture_ranks, fracture_gold_main (1 rank against a 2-rank gold)
   fracture_ranks_mini_decision    # fracture_ranks_decision
   outputs_commit_kill             # fracture_restart_kill, outputs_keep_finished
+  outputs_disk_full_sizes         # outputs_disk_full, outputs_disk_full_overwrite
   outputs_overwrite_kill          # outputs_keep_finished, outputs_rerun
   outputs_overwrite_kill_renames  # outputs_keep_finished, outputs_rerun
   outputs_overwrite_stale         # outputs_concurrent
