@@ -1,6 +1,8 @@
 // Benchmark of the tension pipeline at one size and rank count: set-up stages,
 // assembly, preconditioner set-up, CG solve, peak memory, fine-level MatMult
-// and a STREAM triad measured in the same run.  Prints figures, not a verdict.
+// and a STREAM triad measured in the same run, then the bond operator
+// (-solver_operator bonds) beside the assembled K: product and CG iteration.
+// Prints figures, not a verdict.
 //
 //   mpirun -n 2 lem_bench -bench_bonds 1300000 -options_file jobs/solver-gamg.opts
 //
@@ -265,6 +267,43 @@ int main(int argc, char** argv) {
     const double index_rows = blocked ? static_cast<double>(rows) / bs : static_cast<double>(rows);
     const double mm_bytes = info.nz_used * (sizeof(PetscScalar) + sizeof(PetscInt) / (blocked ? bs * bs : 1.0)) +
                             index_rows * sizeof(PetscInt) + 2.0 * rows * sizeof(PetscScalar);
+    // The bond operator on the same x, and the same solve with each operator
+    // in turn, both with the preconditioner of the last repeat (not rebuilt:
+    // the preconditioner matrix is the same K).
+    sys->set_operator(lem::SolverOperator::bonds);
+    const Mat B = sys->operator_matrix();
+    double bo_difference = 0;
+    {
+      lem::VecHandle y;
+      LEM_PETSC(VecDuplicate(b, y.replace()));
+      LEM_PETSC(MatMult(K, x, b));
+      LEM_PETSC(MatMult(B, x, y));
+      PetscReal norm_b = 0, norm_d = 0;
+      LEM_PETSC(VecNorm(b, NORM_INFINITY, &norm_b));
+      LEM_PETSC(VecAXPY(y, -1.0, b));
+      LEM_PETSC(VecNorm(y, NORM_INFINITY, &norm_d));
+      bo_difference = norm_d / norm_b;
+    }
+    const double t_bo = timed(comm, [&] {
+      for (std::int64_t k = 0; k < matmults; ++k) LEM_PETSC(MatMult(B, x, b));
+    }) / static_cast<double>(matmults);
+    double bo_bytes = 0;
+    {
+      const double local = sys->bond_operator_bytes();
+      MPI_Allreduce(&local, &bo_bytes, 1, MPI_DOUBLE, MPI_SUM, comm);
+    }
+    LEM_PETSC(MatMult(K, x, b));  // the right-hand side again
+    std::vector<double> cg_ms[2], cg_its[2];
+    for (std::int64_t r = 0; r < std::max<std::int64_t>(repeat, 1); ++r)
+      for (int o = 0; o < 2; ++o) {
+        LEM_PETSC(KSPSetOperators(ksp, o ? B : K, K));
+        LEM_PETSC(VecZeroEntries(x));
+        const double t = timed(comm, [&] { LEM_PETSC(KSPSolve(ksp, b, x)); });
+        PetscInt n = 0;
+        LEM_PETSC(KSPGetIterationNumber(ksp, &n));
+        cg_ms[o].push_back(1e3 * t / static_cast<double>(n));
+        cg_its[o].push_back(static_cast<double>(n));
+      }
     x.reset();
     b.reset();
 
@@ -289,6 +328,18 @@ int main(int argc, char** argv) {
     lem::say("MatMult (%s): %.2f ms, %.3g MB moved (nnz %.4g), %.2f GB/s = %.0f%% of STREAM\n",
              type, 1e3 * t_mm, mm_bytes / 1e6, info.nz_used, mm_bytes / t_mm / 1e9,
              100.0 * mm_stream / t_mm);
+    lem::say("operators side by side (same x, same preconditioner, %d solves each):\n",
+             static_cast<int>(cg_its[0].size()));
+    lem::say("  assembled (%s): %.2f ms per product, %.3g MB, %.0f%% of STREAM; CG %.2f ms per "
+             "iteration, %.0f its\n", type, 1e3 * t_mm, mm_bytes / 1e6, 100.0 * mm_stream / t_mm,
+             median(cg_ms[0]), median(cg_its[0]));
+    lem::say("  bonds:     %.2f ms per product, %.3g MB (%.1f B per bond), %.0f%% of STREAM; CG "
+             "%.2f ms per iteration, %.0f its; max |K_bonds x - K x| / max |K x| = %.1e\n",
+             1e3 * t_bo, bo_bytes / 1e6, bo_bytes / static_cast<double>(setup.active_bonds),
+             100.0 * bo_bytes / (stream * 1e9) / t_bo, median(cg_ms[1]), median(cg_its[1]),
+             bo_difference);
+    lem::say("  ratio assembled/bonds: product %.2f, CG iteration %.2f\n", t_mm / t_bo,
+             median(cg_ms[0]) / median(cg_ms[1]));
     lem::say("STREAM triad: %.2f GB/s aggregate over %d ranks (3 x %.0f MB per rank)\n", stream,
              ranks, stream_mb);
     lem::say("peak RSS MB: max %.0f; per rank after set-up [%s], at end [%s]\n", mem_max,

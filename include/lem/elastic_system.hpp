@@ -22,6 +22,11 @@
 namespace lem {
 
 class ParticleDeflation;
+class BondOperator;
+
+/// The operator CG applies: the assembled matrix K, or K applied bond by bond
+/// (the preconditioner is built from the assembled K either way).
+enum class SolverOperator { assembled, bonds };
 
 struct SolveReport {
   int iterations = 0;
@@ -67,6 +72,8 @@ struct SolverOptions {
   /// -solver_particle_deflation: deflate every particle's rigid-body modes
   /// around the preconditioner (cemented samples).
   bool particle_deflation = false;
+  /// -solver_operator: what CG multiplies by.
+  SolverOperator solver_operator = SolverOperator::assembled;
 };
 /// Read -lattice_ground_stiffness and record the solver defaults (CG +
 /// GAMG, ...) in the option registry, so that -help and the provenance show
@@ -144,6 +151,12 @@ class ElasticSystem {
   std::vector<Point> owned_displacements() const;
 
   Mat matrix() const { return K_; }
+  /// The operator CG uses: the bond operator's shell, or K itself.
+  Mat operator_matrix() const;
+  /// Change the operator of CG (benchmarks; the solver keeps its settings).
+  void set_operator(SolverOperator kind);
+  /// Bytes one product of the bond operator moves (its model; 0 when unused).
+  double bond_operator_bytes() const;
   KSP ksp() const { return ksp_; }
   /// Typical diagonal value used on constrained rows.
   double constrained_diagonal() const { return diagonal_scale_; }
@@ -169,6 +182,7 @@ class ElasticSystem {
   ConvergenceTest* convergence_ = nullptr;  // owned by ksp_ (destroyed with it)
   KspHandle fallback_ksp_;  // CG + Jacobi, for solves the multigrid fails
   std::unique_ptr<ParticleDeflation> deflation_;  // -solver_particle_deflation
+  std::unique_ptr<BondOperator> bonds_;  // -solver_operator bonds
   double diagonal_scale_ = 1.0;
   double ground_ = 0.0;  // diagonal added on free dofs (-lattice_ground_stiffness)
   double current_displacement_ = 0.0;

@@ -1,5 +1,6 @@
 #include "lem/elastic_system.hpp"
 
+#include "bond_operator.hpp"
 #include "particle_deflation.hpp"
 #include "solver_defaults.hpp"
 
@@ -111,7 +112,9 @@ ElasticSystem::ElasticSystem(DistributedLattice& lattice, const SolverOptions& o
   LEM_PETSC(MatSetNearNullSpace(K_, rigid));
 
   LEM_PETSC(KSPCreate(comm, ksp_.replace()));
-  LEM_PETSC(KSPSetOperators(ksp_, K_, K_));
+  if (options.solver_operator == SolverOperator::bonds)
+    bonds_ = std::make_unique<BondOperator>(lattice_, ground_, diagonal_scale_);
+  LEM_PETSC(KSPSetOperators(ksp_, operator_matrix(), K_));
   LEM_PETSC(KSPSetInitialGuessNonzero(ksp_, PETSC_TRUE));
   apply_solver_defaults(ksp_);
   set_from_options(ksp_);
@@ -124,6 +127,22 @@ ElasticSystem::ElasticSystem(DistributedLattice& lattice, const SolverOptions& o
 
 // The handles destroy the PETSc objects (also when the constructor throws).
 ElasticSystem::~ElasticSystem() = default;
+
+Mat ElasticSystem::operator_matrix() const {
+  return bonds_ ? bonds_->matrix() : static_cast<Mat>(K_);
+}
+
+void ElasticSystem::set_operator(SolverOperator kind) {
+  if (kind == SolverOperator::bonds && !bonds_)
+    bonds_ = std::make_unique<BondOperator>(lattice_, ground_, diagonal_scale_);
+  LEM_PETSC(KSPSetOperators(ksp_, kind == SolverOperator::bonds ? bonds_->matrix() : K_, K_));
+  if (kind == SolverOperator::assembled) bonds_.reset();  // the KSP no longer refers to it
+  pc_stale_ = true;
+}
+
+double ElasticSystem::bond_operator_bytes() const {
+  return bonds_ ? bonds_->bytes_per_multiply() : 0.0;
+}
 
 void ElasticSystem::add_bond_block(int bond, double k_change) {
   const auto [p, q] = lattice_.bond_ends[bond];
@@ -161,6 +180,7 @@ void ElasticSystem::assemble() {
   }
   LEM_PETSC(MatAssemblyBegin(K_, MAT_FINAL_ASSEMBLY));
   LEM_PETSC(MatAssemblyEnd(K_, MAT_FINAL_ASSEMBLY));
+  if (bonds_) bonds_->read_stiffness();
   operator_changed_ = true;
   if (deflation_) deflation_->operator_changed();
   stage.pop();
@@ -169,6 +189,7 @@ void ElasticSystem::assemble() {
 void ElasticSystem::set_bond_stiffness(int local_bond, double k) {
   const double change = k - lattice_.bond_stiffness[local_bond];
   lattice_.bond_stiffness[local_bond] = k;
+  if (bonds_) bonds_->set_stiffness(local_bond, k);
   if (change != 0.0) add_bond_block(local_bond, change);
 }
 
@@ -452,7 +473,7 @@ void ElasticSystem::build_preconditioner() {
 // the last set-up (KSPSetOperators); K is changed in place, so hand it over
 // again, or the preconditioner of the first solve would stay forever.
 void ElasticSystem::set_up_preconditioner() {
-  LEM_PETSC(KSPSetOperators(ksp_, K_, K_));
+  LEM_PETSC(KSPSetOperators(ksp_, operator_matrix(), K_));
   LEM_PETSC(KSPSetReusePreconditioner(ksp_, PETSC_FALSE));
   LEM_PETSC(KSPSetUp(ksp_));
   LEM_PETSC(KSPSetReusePreconditioner(ksp_, reuse_pc_ ? PETSC_TRUE : PETSC_FALSE));
@@ -485,6 +506,7 @@ void ElasticSystem::pin_nodes(const std::vector<int>& local_nodes) {
     const PetscInt row = static_cast<PetscInt>(lattice_.global_index[n]);
     LEM_PETSC(MatSetValuesBlocked(K_, 1, &row, 1, &row, block, ADD_VALUES));
   }
+  if (bonds_) bonds_->constraints_changed();
   if (deflation_) deflation_->constraints_changed();
 }
 

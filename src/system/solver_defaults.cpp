@@ -140,6 +140,12 @@ SolverOptions read_solver_options(MPI_Comm comm) {
                "particle, solved exactly).  For porous cemented samples, where stiff "
                "particles joined by a few soft bridges make CG slow "
                "(docs/performance.md); needs a cemented sample", o.particle_deflation);
+    o.solver_operator = g.choice<SolverOperator>(
+        "-solver_operator", "What CG multiplies by: the assembled matrix K, or K applied "
+        "bond by bond from each bond's stiffness and direction (less memory traffic per "
+        "product; the multigrid is built from the assembled K either way)",
+        {{"assembled", SolverOperator::assembled}, {"bonds", SolverOperator::bonds}},
+        o.solver_operator);
   }
   OptionGroup g(comm, "Linear solver (defaults set on PETSc's objects; any -ksp_*, -pc_*, "
                       "-mg_* or -mat_* option overrides them)");
