@@ -119,7 +119,7 @@ void print_levels(KSP ksp) {
     MatInfo info;
     PetscInt rows = 0;
     LEM_PETSC(PCMGGetSmoother(pc, l, &smoother));
-    LEM_PETSC(KSPGetOperators(smoother, &A, nullptr));
+    LEM_PETSC(KSPGetOperators(smoother, nullptr, &A));  // assembled even with -pc_use_amat
     LEM_PETSC(MatGetInfo(A, MAT_GLOBAL_SUM, &info));
     LEM_PETSC(MatGetSize(A, &rows, nullptr));
     if (l == levels - 1) fine = info.nz_used;

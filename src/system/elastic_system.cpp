@@ -117,6 +117,14 @@ ElasticSystem::ElasticSystem(DistributedLattice& lattice, const SolverOptions& o
   LEM_PETSC(KSPSetOperators(ksp_, operator_matrix(), K_));
   LEM_PETSC(KSPSetInitialGuessNonzero(ksp_, PETSC_TRUE));
   apply_solver_defaults(ksp_);
+  if (bonds_) {
+    // The fine-level smoother and residual of the multigrid use the bond
+    // operator too (they are most of an iteration's products); -pc_use_amat
+    // false keeps them on K.
+    PC pc;
+    LEM_PETSC(KSPGetPC(ksp_, &pc));
+    LEM_PETSC(PCSetUseAmat(pc, PETSC_TRUE));
+  }
   set_from_options(ksp_);
   if (options.particle_deflation)
     deflation_ = std::make_unique<ParticleDeflation>(lattice_, K_, ksp_);
