@@ -11,6 +11,9 @@
 #                   refused with a named error
 #   restart_ranks   a 2-rank run stopped by SIGUSR1 resumes on 1 rank: same
 #                   ruptures, curve within 1e-7 of the peak
+#   operators       2 ranks, CG multiplying bond by bond (-solver_operator
+#                   bonds) breaks the bonds the assembled K breaks, in the
+#                   same order; curves within 1e-7 of the peak
 #   most_critical   the other break rule: one bond per cycle, rank-independent
 #   solver_failure  a solve that fails for good writes the last equilibrium
 #                   as a checkpoint and exits 2; the rerun resumes from it
@@ -80,6 +83,14 @@ ranks)
     fail "1 and 2 ranks break different bonds"
   compare_curves "$work/np1" "$work/np2" 1e-7
   echo "ok: 1 and 2 ranks break the same $(summary "$work/np1" broken) bonds in the same order"
+  ;;
+operators)
+  run 2 "$work/assembled" -solver_operator assembled || fail "assembled: $(tail -3 "$work/assembled/log")"
+  run 2 "$work/bonds" -solver_operator bonds || fail "bonds: $(tail -3 "$work/bonds/log")"
+  diff <(sequence "$work/assembled") <(sequence "$work/bonds") > /dev/null ||
+    fail "the bond operator breaks other bonds than the assembled K"
+  compare_curves "$work/assembled" "$work/bonds" 1e-7
+  echo "ok: both operators break the same $(summary "$work/bonds" broken) bonds in the same order"
   ;;
 restart_kill|restart_signal)
   # Growth 1.01 asks for a new preconditioner after most relaxation solves,
