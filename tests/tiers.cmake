@@ -18,6 +18,8 @@ set(LEM_LONG_TESTS
   fracture_node_stress            # test_elastic_np2 (node stresses, eq. 1), results_readers
   fracture_bad_checkpoint         # bad_checkpoint_crafted
   fracture_restart_ranks_decision # fracture_restart_ranks, fracture_restart_kill_decision
+  fracture_restart_kill_bonds     # fracture_operators, fracture_ranks_bonds, fracture_restart_kill
+  fracture_restart_ranks_bonds    # fracture_operators, fracture_ranks_bonds, fracture_restart_ranks
   fracture_fidelity_mini          # fracture_ranks_decision, FractureParts.DecidedBatch* (decided solves)
   fracture_fidelity_tiny          # the same
   fracture_gold_main              # fracture_gold_main_np2, fracture_ranks
