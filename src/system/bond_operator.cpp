@@ -36,6 +36,17 @@ PetscErrorCode shell_diagonal(Mat A, Vec d) {
 
 }  // namespace
 
+void bond_direction(const DistributedLattice& l, int bond, double n[3]) {
+  const auto [p, q] = l.bond_ends[bond];
+  double length2 = 0;
+  for (int a = 0; a < 3; ++a) {
+    n[a] = l.coords[q][a] - l.coords[p][a];
+    length2 += n[a] * n[a];
+  }
+  const double inv = 1.0 / std::sqrt(length2);
+  for (int a = 0; a < 3; ++a) n[a] *= inv;
+}
+
 BondOperator::BondOperator(const DistributedLattice& lattice, double ground, double scale)
     : lattice_(lattice), ground_(ground), scale_(scale) {
   const int bonds = lattice_.local_bonds();
@@ -54,19 +65,14 @@ BondOperator::BondOperator(const DistributedLattice& lattice, double ground, dou
   slot_.resize(bonds);
   for (int s = 0; s < bonds; ++s) {
     const int b = order[s];
-    const auto [p, q] = lattice_.bond_ends[b];
-    double n[3], length2 = 0;
-    for (int a = 0; a < 3; ++a) {
-      n[a] = lattice_.coords[q][a] - lattice_.coords[p][a];
-      length2 += n[a] * n[a];
-    }
-    const double inv = 1.0 / std::sqrt(length2);
-    i_[s] = p;
-    j_[s] = q;
+    double n[3];
+    bond_direction(lattice_, b, n);
+    i_[s] = lattice_.bond_ends[b][0];
+    j_[s] = lattice_.bond_ends[b][1];
     k_[s] = lattice_.bond_stiffness[b];
-    nx_[s] = n[0] * inv;
-    ny_[s] = n[1] * inv;
-    nz_[s] = n[2] * inv;
+    nx_[s] = n[0];
+    ny_[s] = n[1];
+    nz_[s] = n[2];
     slot_[b] = s;
   }
   acc_.resize(3 * static_cast<std::size_t>(lattice_.local_nodes()));

@@ -36,18 +36,6 @@ const Stages& log_stages() {
   return stages;
 }
 
-// Unit vector of a local bond, from its first end to its second.
-void bond_direction(const DistributedLattice& l, int bond, double n[3]) {
-  const auto [p, q] = l.bond_ends[bond];
-  double length2 = 0;
-  for (int a = 0; a < 3; ++a) {
-    n[a] = l.coords[q][a] - l.coords[p][a];
-    length2 += n[a] * n[a];
-  }
-  const double inv = 1.0 / std::sqrt(length2);
-  for (int a = 0; a < 3; ++a) n[a] *= inv;
-}
-
 }  // namespace
 
 ElasticSystem::ElasticSystem(DistributedLattice& lattice, const SolverOptions& options)
