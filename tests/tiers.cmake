@@ -17,14 +17,14 @@ set(LEM_LONG_TESTS
   test_fracture_system_np1        # test_fracture_system_np2
   fracture_node_stress            # test_elastic_np2 (node stresses, eq. 1), results_readers
   fracture_bad_checkpoint         # bad_checkpoint_crafted
-  fracture_restart_ranks_decision # fracture_restart_ranks, fracture_restart_kill_decision
-  fracture_restart_kill_bonds     # fracture_operators, fracture_ranks_bonds, fracture_restart_kill
-  fracture_restart_ranks_bonds    # fracture_operators, fracture_ranks_bonds, fracture_restart_ranks
-  fracture_fidelity_mini          # fracture_ranks_decision, FractureParts.DecidedBatch* (decided solves)
-  fracture_fidelity_tiny          # the same
-  fracture_gold_main              # fracture_gold_main_np2, fracture_ranks
-  fracture_ranks_mini             # fracture_ranks, fracture_gold_main_np2
-  fracture_ranks_mini_decision    # fracture_ranks_decision
+  fracture_restart_ranks_reference # fracture_restart_ranks, fracture_restart_kill_reference
+  fracture_restart_kill_assembled # fracture_operators, fracture_ranks_assembled, fracture_restart_kill
+  fracture_restart_ranks_assembled # fracture_operators, fracture_ranks_assembled, fracture_restart_ranks
+  fracture_fidelity_tiny          # fracture_fidelity_mini
+  fracture_gold_main              # fracture_fidelity_mini, fracture_ranks_reference (1 rank: fracture_ranks)
+  fracture_gold_main_np2          # fracture_fidelity_mini (the main job as run, against the same gold), fracture_ranks_reference
+  fracture_ranks_mini             # fracture_ranks, fracture_fidelity_mini
+  fracture_ranks_mini_reference   # fracture_ranks_reference
   outputs_commit_kill             # fracture_restart_kill, outputs_keep_finished
   outputs_disk_full_sizes         # outputs_disk_full, outputs_disk_full_overwrite
   outputs_overwrite_kill          # outputs_keep_finished, outputs_rerun

@@ -73,7 +73,7 @@ struct SolverOptions {
   /// around the preconditioner (cemented samples).
   bool particle_deflation = false;
   /// -solver_operator: what CG multiplies by.
-  SolverOperator solver_operator = SolverOperator::assembled;
+  SolverOperator solver_operator = SolverOperator::bonds;
 };
 /// Read -lattice_ground_stiffness and record the solver defaults (CG +
 /// GAMG, ...) in the option registry, so that -help and the provenance show
@@ -191,6 +191,7 @@ class ElasticSystem {
   bool reuse_pc_ = false;  // keep the preconditioner when K changes
   bool pc_stale_ = false;  // the next solve must build a fresh preconditioner
   bool pc_ready_ = false;  // a preconditioner has been built
+  bool tighter_solve_ = false;  // in solve_to: -log_view stage "Solve, tighter rtol"
   std::int64_t solves_ = 0;  // by this process (test hook LEM_FAULT_SOLVE_FAIL)
 };
 

@@ -7,6 +7,7 @@
 
 #include "lem/driver.hpp"
 #include "lem/error.hpp"
+#include "lem/log.hpp"
 #include "lem/protocol/break_rule.hpp"
 #include "lem/protocol/checkpoint.hpp"
 #include "lem/protocol/damage_ledger.hpp"
@@ -112,6 +113,7 @@ void Protocol::note_peak(const TensionResponse& r) {
 }
 
 void Protocol::visit_idle(std::int64_t step) {
+  LogStageScope stage("Recording");  // a scaled field: the response is all the work
   const double previous = system_.top_displacement();
   system_.rescale(displacement_of(step));
   const TensionResponse r = system_.response();
@@ -130,13 +132,19 @@ void Protocol::visit(std::int64_t step, bool first) {
     solver_.solve(delta, false);
   else
     system_.rescale(delta);
+  LogStageScope response_stage("Recording");
   TensionResponse r = system_.response();
+  response_stage.pop();
   tally_.work += 0.5 * (state_.reaction + r.reaction) * (delta - previous);
   const double stress_before = r.stress_zz, energy_before = r.stored_energy;
-  if (first) critical_.check_first_increment(system_.bond_tensions(), o_.increment);
+  if (first) {
+    LogStageScope stage("Decisions");
+    critical_.check_first_increment(system_.bond_tensions(), o_.increment);
+  }
 
   const RelaxationOutcome relaxed = relaxation_->relax(step, delta, r.strain_zz, stress_before);
   if (relaxed.disconnected) disconnected_ = true;
+  LogStageScope record_stage("Recording");
   r = system_.response();
   tally_.released_energy += energy_before - r.stored_energy;
   state_.reaction = r.reaction;
@@ -155,6 +163,7 @@ void Protocol::visit(std::int64_t step, bool first) {
 }
 
 void Protocol::hold_equilibrium() {
+  LogStageScope stage("Checkpoints");
   state_.files = recorder_.marks();
   state_.preconditioner.rebuild_pending = system_.preconditioner_rebuild_pending();
   state_.batches = ledger_.batches();
@@ -175,6 +184,7 @@ void Protocol::stop_between_cycles(std::int64_t step, int cycles) {
 }
 
 void Protocol::save_checkpoint() {
+  LogStageScope stage("Checkpoints");
   recorder_.sync();
   checkpoint_.save(ledger_);
   last_checkpoint_time_ = MPI_Wtime();
@@ -234,10 +244,12 @@ FractureResult Protocol::run() {
                           checkpoint_.path() + "; run the same command again to resume");
     }
 
+    LogStageScope decision_stage("Decisions");
     const std::int64_t next = o_.skip_idle
                                   ? critical_.next_step(system_.bond_tensions(), tally_.steps,
                                                         o_.max_steps)
                                   : tally_.steps + 1;
+    decision_stage.pop();
     if (next > o_.max_steps) {
       end = next == o_.max_steps + 1 && o_.skip_idle ? "no rupture before -fracture_max_steps"
                                                      : "reached -fracture_max_steps";

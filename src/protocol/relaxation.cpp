@@ -25,6 +25,7 @@ bool Relaxation::break_batch(const std::vector<Rupture>& batch, std::int64_t ste
   // Pieces cut loose: pin them.  Pinned rows trade their bonds for a
   // diagonal of the same size, so the kept preconditioner stays usable (a
   // failure would retry with a new one).
+  LogStageScope piece_stage("Pieces");
   const PieceReport pieces = pieces_.find();
   // Every rank must list the same nodes: gather the owned ones.
   std::vector<std::int64_t> owned_loose;
@@ -37,6 +38,7 @@ bool Relaxation::break_batch(const std::vector<Rupture>& batch, std::int64_t ste
     p_.tally.pinned_nodes += static_cast<std::int64_t>(loose.size());
   }
   p_.tally.pieces = pieces.pieces;
+  piece_stage.pop();
   p_.system.finish_updates();
   stage.pop();
   p_.solver.note_ruptures(static_cast<std::int64_t>(batch.size()));
@@ -62,6 +64,7 @@ SolveReport Relaxation::solve_for_decision(double top_displacement) {
   // optimistic: the residual converges faster than the slow modes of the
   // error, docs/fracture.md).
   early.decided = [&] {
+    LogStageScope stage("Decisions");
     std::vector<double> now = p_.system.bond_tensions();
     const bool done =
         !earlier.empty() && p_.critical.decided(now, earlier, p_.options.decision_safety);
@@ -72,6 +75,7 @@ SolveReport Relaxation::solve_for_decision(double top_displacement) {
 }
 
 std::vector<Rupture> Relaxation::next_batch(double top_displacement) {
+  LogStageScope stage("Decisions");  // a tie re-solve logs under its own stage
   std::vector<double> tensions = p_.system.bond_tensions();
   // A solve already as tight as the tie tolerance gains nothing from another.
   if (p_.options.tie_rtol < p_.system.rtol() && p_.critical.in_doubt(tensions)) {
@@ -113,7 +117,10 @@ RelaxationOutcome GlobalRelaxation::relax(std::int64_t step, double top_displace
       if (stress_fell(stress_before)) break;
     }
   }
-  if (out.broken > 0) p_.recorder.flush_ruptures();
+  if (out.broken > 0) {
+    LogStageScope stage("Recording");
+    p_.recorder.flush_ruptures();
+  }
   return out;
 }
 

@@ -40,7 +40,7 @@ struct FractureOptions {
   // Relaxation solves end as soon as they decide the next batch (the error
   // of a force taken as decision_safety times its change over the last
   // decision_interval CG iterations); 0: every solve to -ksp_rtol.
-  double decision_safety = 0;
+  double decision_safety = 1;
   int decision_interval = 4;
   // A bond whose force is within tie_band * -ksp_rtol * (mean positive
   // threshold) of its level is decided on a re-solve to tie_rtol: solver
