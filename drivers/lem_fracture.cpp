@@ -16,6 +16,7 @@
 #include "lem/tension_output.hpp"
 #include "lem/write_watch.hpp"
 
+#include <cstdio>
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -526,6 +527,7 @@ int main(int argc, char** argv) {
     s.add("relaxation_cycles", static_cast<long long>(r.relaxation_cycles));
     s.add("solves", static_cast<long long>(r.solves));
     s.add("early_stops", static_cast<long long>(r.early_stops));
+    s.add("decided_steps", static_cast<long long>(r.decided_steps));
     s.add("tie_solves", static_cast<long long>(r.tie_solves));
     s.add("ksp_iterations", static_cast<long long>(r.iterations));
     s.add("pc_builds", static_cast<long long>(r.preconditioner_builds));
@@ -573,7 +575,12 @@ int main(int argc, char** argv) {
     s.add_provenance(provenance);
     lem::run_on_root(comm, [&] {
       lem::write_text_file_atomically(work + "/summary.csv", s.csv());
-      lem::write_text_file_atomically(work + "/summary.json", s.json());
+      try {
+        lem::write_text_file_atomically(work + "/summary.json", s.json());
+      } catch (...) {  // no summary is left without its other half
+        std::remove((work + "/summary.csv").c_str());
+        throw;
+      }
       std::vector<std::string> files = {"curve.csv", "broken.csv", "summary.csv",
                                         "summary.json"};
       for (const auto& entry : std::filesystem::directory_iterator(work)) {

@@ -101,8 +101,9 @@ class ElasticSystem {
   /// Solve for a top displacement.  The previous solution (scaled to the new
   /// load) is the initial guess.  Throws NumericalError if KSP diverges.
   /// With `early` (CG only), the solve may end before -ksp_rtol when the
-  /// test says so; the state is then no equilibrium (rescale() refuses it)
-  /// until the next full solve.
+  /// test says so; the state is then no equilibrium until the next full
+  /// solve, and the field kept by the test's last mark_check() stays beside
+  /// it (the certificate of its decisions).
   SolveReport solve(double top_displacement, const EarlyStop* early = nullptr);
   /// The same to relative tolerance `rtol` instead of -ksp_rtol (the
   /// fallback solver too); the tolerances are restored afterwards.
@@ -120,21 +121,37 @@ class ElasticSystem {
   void build_preconditioner();
 
   /// The system is linear in the load: while K is unchanged since the last
-  /// solve, the solution for another top displacement is the last one scaled.
-  /// Exact (no solve); throws std::logic_error if K changed since.
+  /// solve, the solution for another top displacement is the last one scaled
+  /// (with the check field of a decided solve).  No solve; throws
+  /// std::logic_error if K changed since.
   void rescale(double top_displacement);
+
+  /// Whether the field solves K u = b to -ksp_rtol (false after a solve
+  /// that an EarlyStop test ended).
+  bool at_equilibrium() const { return equilibrium_; }
+  /// Inside an EarlyStop test: keep the current CG iterate as the check
+  /// field (an error estimate of a force is then its change since).
+  void mark_check();
+  /// Tensions of the check field (only when not at_equilibrium()).
+  std::vector<double> check_tensions() const;
+  /// sigma_zz of a field with these bond tensions (response().stress_zz of
+  /// the current ones).  Collective.
+  double stress_of(const std::vector<double>& tensions) const;
 
   /// Pin the given local nodes (every rank passes its local copies, owned
   /// and ghost): their rows become constrained at zero displacement.  Their
   /// bonds must already carry k = 0.  Call finish_updates() afterwards.
   void pin_nodes(const std::vector<int>& local_nodes);
 
-  /// Owned displacements as a flat array (3 per owned node) and the top
+  /// Owned displacements as a flat array (3 per owned node), the check
+  /// field's the same way (empty at an equilibrium), and the top
   /// displacement they belong to; set_state restores them (restart: the
-  /// values must solve the current K).
+  /// values must be those of the current K).
   std::vector<double> solution() const;
+  std::vector<double> check_solution() const;
   double top_displacement() const { return current_displacement_; }
-  void set_state(const std::vector<double>& owned_values, double top_displacement);
+  void set_state(const std::vector<double>& owned, double top_displacement,
+                 const std::vector<double>& owned_check = {});
 
   /// Relax only the given owned nodes (every other displacement held): solve
   /// K_PP du_P = r_P for the out-of-balance forces r = b - K u of the current
@@ -178,6 +195,7 @@ class ElasticSystem {
   VecHandle u_;  // ghosted: owned values followed by ghost values
   VecHandle b_;
   VecHandle u_start_;  // initial guess kept for a retry
+  VecHandle u_check_;  // ghosted: the check field of a decided solve (mark_check)
   KspHandle ksp_;
   ConvergenceTest* convergence_ = nullptr;  // owned by ksp_ (destroyed with it)
   KspHandle fallback_ksp_;  // CG + Jacobi, for solves the multigrid fails

@@ -93,8 +93,8 @@ std::vector<Rupture> CriticalBonds::find(const std::vector<double>& tension) con
   return all;
 }
 
-bool CriticalBonds::decided(const std::vector<double>& tension,
-                            const std::vector<double>& earlier, double safety) const {
+FieldDecision CriticalBonds::decide(const std::vector<double>& tension,
+                                    const std::vector<double>& earlier, double safety) const {
   const DistributedLattice& l = lattice_;
   std::int64_t counts[2] = {0, 0}, totals[2];  // certainly critical, undecided
   for (int b = 0; b < l.local_bonds(); ++b) {
@@ -109,19 +109,23 @@ bool CriticalBonds::decided(const std::vector<double>& tension,
     if (t > level) counts[0] += 1;
   }
   MPI_Allreduce(counts, totals, 2, MPI_INT64_T, MPI_SUM, l.comm);
-  return rule_ == BreakRule::all && totals[0] > 0 && totals[1] == 0;
+  if (totals[1] > 0) return FieldDecision::undecided;
+  if (totals[0] == 0) return FieldDecision::holds;
+  return rule_ == BreakRule::all ? FieldDecision::breaks : FieldDecision::undecided;
 }
 
 std::int64_t CriticalBonds::next_step(const std::vector<double>& tension, std::int64_t step,
-                                      std::int64_t max_steps) const {
+                                      std::int64_t max_steps, const std::vector<double>* earlier,
+                                      double safety) const {
   const DistributedLattice& l = lattice_;
   double first = std::numeric_limits<double>::infinity();
   for (int b = 0; b < l.local_bonds(); ++b) {
-    if (!l.bond_reported[b] || l.bond_stiffness[b] <= 0 || !(tension[b] > 0)) continue;
+    const double t =
+        earlier ? tension[b] + safety * std::abs(tension[b] - (*earlier)[b]) : tension[b];
+    if (!l.bond_reported[b] || l.bond_stiffness[b] <= 0 || !(t > 0)) continue;
     // From the edge of the doubt band: a near-tie is then met at a step that
     // is evaluated (and re-solved), never skipped over on one rank count.
-    first = std::min(first,
-                     first_breaking_step(step, tension[b], doubt_edge(level(b), band_), 0.0));
+    first = std::min(first, first_breaking_step(step, t, doubt_edge(level(b), band_), 0.0));
   }
   double global = 0;
   MPI_Allreduce(&first, &global, 1, MPI_DOUBLE, MPI_MIN, l.comm);

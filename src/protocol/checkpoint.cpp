@@ -19,8 +19,9 @@ namespace lem {
 
 namespace {
 
-// Version 2: the state is FractureState (version 1 had another layout).
-constexpr char kCheckpointMagic[8] = {'L', 'E', 'M', 'C', 'K', 'P', 'T', '2'};
+// Version 3: the check field of a decided field follows the displacement
+// (version 2 had none, version 1 another state layout).
+constexpr char kCheckpointMagic[8] = {'L', 'E', 'M', 'C', 'K', 'P', 'T', '3'};
 
 void put(ByteWriter& w, const DamageHistory& h) {
   w.vec(h.bond_events), w.vec(h.bond_batches), w.vec(h.node_events), w.vec(h.node_batches);
@@ -42,6 +43,7 @@ void write_checkpoint_file(const std::string& path, const Checkpoint& c) {
   w.str(c.fingerprint);
   put(w, c.damage);
   w.vec(c.displacement);
+  w.vec(c.check_displacement);
   w.pod(fnv1a(w.bytes.data(), w.bytes.size()));
   write_text_file_atomically(path, std::string(w.bytes.begin(), w.bytes.end()));
 }
@@ -63,9 +65,14 @@ void check_checkpoint_values(const Checkpoint& c, const std::string& bad) {
   if (c.displacement.size() != 3 * static_cast<std::uint64_t>(nodes))
     refuse(std::to_string(c.displacement.size()) + " displacement values for " +
            std::to_string(nodes) + " nodes");
-  for (std::size_t i = 0; i < c.displacement.size(); ++i)
-    if (!std::isfinite(c.displacement[i]))
-      refuse("displacement " + std::to_string(i) + " is not finite");
+  if (!c.check_displacement.empty() && c.check_displacement.size() != c.displacement.size())
+    refuse(std::to_string(c.check_displacement.size()) + " check field values for " +
+           std::to_string(nodes) + " nodes");
+  for (const auto* field : {&c.displacement, &c.check_displacement})
+    for (std::size_t i = 0; i < field->size(); ++i)
+      if (!std::isfinite((*field)[i]))
+        refuse(std::string(field == &c.displacement ? "displacement " : "check field value ") +
+               std::to_string(i) + " is not finite");
   const FractureState& s = c.state;
   const FractureTally& t = s.tally;
   for (const std::int64_t count : {t.steps, t.visited_steps, t.solves, t.iterations,
@@ -131,6 +138,7 @@ Checkpoint read_checkpoint_file(const std::string& path) {
     r.str(c.fingerprint);
     get(r, c.damage);
     r.vec(c.displacement);
+    r.vec(c.check_displacement);
     const DamageHistory& h = c.damage;
     if (!r.at_end() || h.bond_events.size() != h.bond_batches.size() ||
         h.node_events.size() != h.node_batches.size())
@@ -170,7 +178,8 @@ std::string fracture_fingerprint(const DistributedLattice& l, const FractureOpti
       << "\npatch_max_fraction=" << o.patch_max_fraction << "\npatch_rtol=" << o.patch_rtol;
   if (o.decision_safety > 0)
     s << "\ndecision_safety=" << o.decision_safety
-      << "\ndecision_interval=" << o.decision_interval;
+      << "\ndecision_interval=" << o.decision_interval
+      << "\ndecided_closing=" << o.decided_closing;
   // Only when changed, so that keys made before the rule existed still match.
   const FractureOptions defaults;
   if (o.tie_band != defaults.tie_band || o.tie_rtol != defaults.tie_rtol)
@@ -242,12 +251,13 @@ Checkpoint CheckpointStore::load() const {
                   &h.build_batches})
     broadcast(lattice_.comm, *v);
   broadcast(lattice_.comm, c.displacement);
+  broadcast(lattice_.comm, c.check_displacement);
   return c;
 }
 
 void CheckpointStore::hold(const FractureState& state, const DamageMark& damage,
-                           std::vector<double> owned_u) {
-  held_ = {state, damage, std::move(owned_u)};
+                           std::vector<double> owned_u, std::vector<double> owned_check) {
+  held_ = {state, damage, std::move(owned_u), std::move(owned_check)};
 }
 
 void CheckpointStore::save(const DamageLedger& ledger) const {
@@ -256,6 +266,7 @@ void CheckpointStore::save(const DamageLedger& ledger) const {
   std::vector<std::int64_t> ids(l.node_id.begin(), l.node_id.begin() + l.owned);
   const auto all_ids = allgather(l.comm, ids);
   const auto all_u = allgather(l.comm, held_.u);
+  const auto all_check = allgather(l.comm, held_.check);  // empty on every rank, or full
   // The other ranks wait for rank 0's write: a stop request reaches them
   // there too (write_watch.hpp).
   const WriteWatch watch(l.comm, path_, path_ + ".tmp");
@@ -264,9 +275,13 @@ void CheckpointStore::save(const DamageLedger& ledger) const {
     c.state = held_.state;
     c.fingerprint = fingerprint_;
     c.damage = ledger.prefix(held_.damage);
-    c.displacement.assign(3 * static_cast<std::size_t>(l.global_nodes), 0.0);
-    for (std::size_t i = 0; i < all_ids.size(); ++i)
-      for (int a = 0; a < 3; ++a) c.displacement[3 * all_ids[i] + a] = all_u[3 * i + a];
+    const auto by_id = [&](const std::vector<double>& owned, std::vector<double>& field) {
+      field.assign(3 * static_cast<std::size_t>(l.global_nodes), 0.0);
+      for (std::size_t i = 0; i < all_ids.size(); ++i)
+        for (int a = 0; a < 3; ++a) field[3 * all_ids[i] + a] = owned[3 * i + a];
+    };
+    by_id(all_u, c.displacement);
+    if (!all_check.empty()) by_id(all_check, c.check_displacement);
     write_checkpoint_file(path_, c);
   });
 }

@@ -52,7 +52,8 @@ class Protocol {
         recorder_(l, s, o, provenance), progress_(o),
         relaxation_(make_relaxation(RelaxationParts{
             l, s, o, critical_, ledger_, solver_, recorder_, progress_, clock_, state_.tally,
-            [this](std::int64_t step, int cycles) { stop_between_cycles(step, cycles); }})),
+            [this](std::int64_t step, int cycles) { stop_between_cycles(step, cycles); },
+            [this](double stress) { return needs_equilibrium(stress); }})),
         checkpoint_(l, checkpoint_path(o.output_dir), fracture_fingerprint(l, o)),
         warnings_(o) {}
 
@@ -70,6 +71,7 @@ class Protocol {
   void hold_equilibrium();
   void save_checkpoint();
   void stop_between_cycles(std::int64_t step, int cycles);
+  bool needs_equilibrium(double stress) const;
   std::string end_reason() const;
 
   DistributedLattice& l_;
@@ -89,16 +91,23 @@ class Protocol {
   bool disconnected_ = false;
   bool holding_ = false;             // an equilibrium is held (not in the first step)
   std::int64_t last_visit_ = 0;      // step of the previous evaluated step (snapshots)
+  std::int64_t visiting_ = 0;        // the step being evaluated
   double last_checkpoint_time_ = 0;  // MPI_Wtime
 };
 
 void Protocol::resume() {
   Checkpoint c = checkpoint_.load();
   ledger_.replay(std::move(c.damage), c.state.batches);
-  std::vector<double> owned(3 * static_cast<std::size_t>(l_.owned));
-  for (int n = 0; n < l_.owned; ++n)
-    for (int a = 0; a < 3; ++a) owned[3 * n + a] = c.displacement[3 * l_.node_id[n] + a];
-  system_.set_state(owned, displacement_of(c.state.tally.steps));
+  const auto owned_part = [&](const std::vector<double>& by_id) {
+    std::vector<double> owned;
+    if (by_id.empty()) return owned;  // no check field: an equilibrium
+    owned.resize(3 * static_cast<std::size_t>(l_.owned));
+    for (int n = 0; n < l_.owned; ++n)
+      for (int a = 0; a < 3; ++a) owned[3 * n + a] = by_id[3 * l_.node_id[n] + a];
+    return owned;
+  };
+  system_.set_state(owned_part(c.displacement), displacement_of(c.state.tally.steps),
+                    owned_part(c.check_displacement));
   // A rebuild asked for before the checkpoint (iteration growth, fallback).
   if (c.state.preconditioner.rebuild_pending) system_.rebuild_preconditioner();
   state_ = c.state;
@@ -126,6 +135,7 @@ void Protocol::visit_idle(std::int64_t step) {
 }
 
 void Protocol::visit(std::int64_t step, bool first) {
+  visiting_ = step;
   const double previous = system_.top_displacement();
   const double delta = displacement_of(step);
   if (first || !o_.skip_idle)
@@ -152,6 +162,7 @@ void Protocol::visit(std::int64_t step, bool first) {
   tally_.visited_steps += 1;
   tally_.relaxation_cycles += relaxed.cycles;
   if (relaxed.broken > 0) tally_.rupture_steps += 1;
+  if (!system_.at_equilibrium()) tally_.decided_steps += 1;
   if (first) tally_.young_modulus = r.young_modulus;
   note_peak(r);
   recorder_.curve_row(step, r, stress_before, relaxed.cycles, false, tally_, clock_.elapsed());
@@ -169,7 +180,7 @@ void Protocol::hold_equilibrium() {
   state_.batches = ledger_.batches();
   FractureState held = state_;
   held.seconds_before = clock_.elapsed();
-  checkpoint_.hold(held, ledger_.mark(), system_.solution());
+  checkpoint_.hold(held, ledger_.mark(), system_.solution(), system_.check_solution());
   holding_ = true;
 }
 
@@ -188,6 +199,20 @@ void Protocol::save_checkpoint() {
   recorder_.sync();
   checkpoint_.save(ledger_);
   last_checkpoint_time_ = MPI_Wtime();
+}
+
+bool Protocol::needs_equilibrium(double stress) const {
+  // A field is kept when it may be the peak, when a snapshot is due, and
+  // when the run ends after the step (end_reason, each bound widened by the
+  // stress tolerance of a decided field).
+  const double peak = tally_.peak_stress, margin = kClosingStressTolerance * peak;
+  if (stress >= peak - margin) return true;
+  if (recorder_.snapshot_due(visiting_, last_visit_)) return true;
+  if (stress < o_.stop_fraction * peak + margin) return true;
+  if (o_.max_strain_ratio > 0 && tally_.strain_at_peak > 0 &&
+      strain_of(visiting_) > o_.max_strain_ratio * tally_.strain_at_peak)
+    return true;
+  return visiting_ >= o_.max_steps;
 }
 
 std::string Protocol::end_reason() const {
@@ -245,10 +270,14 @@ FractureResult Protocol::run() {
     }
 
     LogStageScope decision_stage("Decisions");
-    const std::int64_t next = o_.skip_idle
-                                  ? critical_.next_step(system_.bond_tensions(), tally_.steps,
-                                                        o_.max_steps)
-                                  : tally_.steps + 1;
+    std::int64_t next = tally_.steps + 1;
+    if (o_.skip_idle) {
+      // On a decided field, each force at the top of its error estimate.
+      const std::vector<double> earlier =
+          system_.at_equilibrium() ? std::vector<double>{} : system_.check_tensions();
+      next = critical_.next_step(system_.bond_tensions(), tally_.steps, o_.max_steps,
+                                 earlier.empty() ? nullptr : &earlier, o_.decision_safety);
+    }
     decision_stage.pop();
     if (next > o_.max_steps) {
       end = next == o_.max_steps + 1 && o_.skip_idle ? "no rupture before -fracture_max_steps"
@@ -276,6 +305,9 @@ FractureResult Protocol::run() {
     }
   }
   fault_pause(l_.comm, "fracture_end", "after the last load step");
+  // The end is kept: on an equilibrium (a run that ends on a decided field
+  // ran out of load steps).
+  if (!system_.at_equilibrium()) solver_.solve(system_.top_displacement(), false);
 
   const TensionResponse r = system_.response();
   FractureResult result;

@@ -91,9 +91,14 @@ FractureOptions read_fracture_options(MPI_Comm comm) {
         "-fracture_decision_safety", "End a relaxation solve (CG) before -ksp_rtol as soon as "
         "it decides the next batch: one bond force is above its threshold and every one is "
         "farther from it than this many times its change over the last "
-        "-fracture_decision_interval iterations.  The last solve of every load step still "
-        "goes to -ksp_rtol.  0: every solve to -ksp_rtol (the reference)",
-        o.decision_safety, 0.0, 1e6);
+        "-fracture_decision_interval iterations.  0: every solve to -ksp_rtol (the "
+        "reference)", o.decision_safety, 0.0, 1e6);
+    o.decided_closing = g.flag(
+        "-fracture_decided_closing", "With -fracture_decision_safety > 0: a load step may also "
+        "end on an unfinished solve that decides that no bond breaks (every force farther "
+        "from its threshold than its error, and sigma_zz within 1e-6 of the peak); the field "
+        "is solved to -ksp_rtol before it is kept (a peak, snapshots, the end).  false: every "
+        "load step ends on a solve to -ksp_rtol", o.decided_closing);
     o.decision_interval = static_cast<int>(g.integer(
         "-fracture_decision_interval", "CG iterations between two decision checks (each "
         "computes every bond force, about one matrix product)", o.decision_interval, 1, 1000));

@@ -235,10 +235,14 @@ void FractureRecorder::sync() {
   });
 }
 
+bool FractureRecorder::snapshot_due(std::int64_t step, std::int64_t previous_step) const {
+  const std::int64_t every = options_.snapshot_steps;
+  return every > 0 && step / every != previous_step / every;
+}
+
 void FractureRecorder::snapshot_if_due(std::int64_t step, std::int64_t previous_step,
                                        const TensionResponse& r) {
-  const std::int64_t every = options_.snapshot_steps;
-  if (every <= 0 || step / every == previous_step / every) return;
+  if (!snapshot_due(step, previous_step)) return;
   // Zero-padded names: ParaView opens the series as one time-dependent set.
   char stem[32];
   std::snprintf(stem, sizeof(stem), "/snapshot_%07lld", static_cast<long long>(step));

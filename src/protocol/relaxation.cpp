@@ -52,9 +52,26 @@ void Relaxation::note_batch(std::int64_t step, const std::vector<Rupture>& batch
   p_.progress.relaxing(step, out.cycles, out.broken, p_.clock.elapsed());
 }
 
+bool Relaxation::decides_early() const {
+  return p_.options.decision_safety > 0 && p_.options.break_rule == BreakRule::all;
+}
+
+bool Relaxation::decision_stands(FieldDecision decision, const std::vector<double>& now,
+                                 const std::vector<double>& earlier) const {
+  if (decision == FieldDecision::breaks) return true;
+  if (decision != FieldDecision::holds || !p_.options.decided_closing) return false;
+  // A step that ends here writes this field's stress to the curve: its
+  // error, estimated like the forces', must be below 1e-6 of the peak; and
+  // a field that will be kept goes on to -ksp_rtol in this solve (a CG
+  // restarted from it would lose its Krylov space).
+  const double peak = p_.tally.peak_stress, stress = p_.system.stress_of(now);
+  const double change = std::abs(stress - p_.system.stress_of(earlier));
+  return peak > 0 && p_.options.decision_safety * change <= kClosingStressTolerance * peak &&
+         !(p_.needs_equilibrium && p_.needs_equilibrium(stress));
+}
+
 SolveReport Relaxation::solve_for_decision(double top_displacement) {
-  if (p_.options.decision_safety <= 0 || p_.options.break_rule != BreakRule::all)
-    return p_.solver.solve(top_displacement, true);
+  if (!decides_early()) return p_.solver.solve(top_displacement, true);
   std::vector<double> earlier;
   EarlyStop early;
   early.interval = p_.options.decision_interval;
@@ -62,23 +79,38 @@ SolveReport Relaxation::solve_for_decision(double top_displacement) {
   // the last interval (CG shrinks the error by a roughly steady factor per
   // iteration; a residual-based tail rho/(1-rho) was tried and is too
   // optimistic: the residual converges faster than the slow modes of the
-  // error, docs/fracture.md).
+  // error, docs/fracture.md).  The iterate of the last check is kept beside
+  // the field: it is the certificate of what the field decides.
   early.decided = [&] {
     LogStageScope stage("Decisions");
     std::vector<double> now = p_.system.bond_tensions();
-    const bool done =
-        !earlier.empty() && p_.critical.decided(now, earlier, p_.options.decision_safety);
+    if (!earlier.empty() &&
+        decision_stands(p_.critical.decide(now, earlier, p_.options.decision_safety), now,
+                        earlier))
+      return true;
     earlier = std::move(now);
-    return done;
+    p_.system.mark_check();
+    return false;
   };
   return p_.solver.solve(top_displacement, true, &early);
 }
 
 std::vector<Rupture> Relaxation::next_batch(double top_displacement) {
-  LogStageScope stage("Decisions");  // a tie re-solve logs under its own stage
+  LogStageScope stage("Decisions");  // a solve logs under its own stage
   std::vector<double> tensions = p_.system.bond_tensions();
+  if (!p_.system.at_equilibrium()) {
+    // A field a decided solve left (scaled since, perhaps): its certificate
+    // scaled with it.  What it does not decide, CG decides from there.
+    const std::vector<double> earlier = p_.system.check_tensions();
+    const FieldDecision d = p_.critical.decide(tensions, earlier, p_.options.decision_safety);
+    if (!decision_stands(d, tensions, earlier)) {
+      solve_for_decision(top_displacement);
+      tensions = p_.system.bond_tensions();
+    }
+  }
   // A solve already as tight as the tie tolerance gains nothing from another.
-  if (p_.options.tie_rtol < p_.system.rtol() && p_.critical.in_doubt(tensions)) {
+  if (p_.system.at_equilibrium() && p_.options.tie_rtol < p_.system.rtol() &&
+      p_.critical.in_doubt(tensions)) {
     p_.solver.solve_to(p_.options.tie_rtol, top_displacement);
     p_.tally.tie_solves += 1;
     tensions = p_.system.bond_tensions();
@@ -102,7 +134,16 @@ RelaxationOutcome GlobalRelaxation::relax(std::int64_t step, double top_displace
   for (;;) {
     next_cycle(step, out);
     const std::vector<Rupture> critical = next_batch(top_displacement);
-    if (critical.empty()) break;
+    if (critical.empty()) {
+      // A decided field that is kept (a peak, a snapshot, the end) is
+      // solved to -ksp_rtol first, and decided again.
+      if (!p_.system.at_equilibrium() && p_.needs_equilibrium &&
+          p_.needs_equilibrium(p_.system.response().stress_zz)) {
+        p_.solver.solve(top_displacement, true);
+        continue;
+      }
+      break;
+    }
     const bool joined = break_batch(critical, step, out.cycles, strain);
     // The run ends after a disconnecting batch: solve it to -ksp_rtol.
     const SolveReport solved = joined ? solve_for_decision(top_displacement)

@@ -5,7 +5,6 @@
 #include "solver_defaults.hpp"
 
 #include "lem/error.hpp"
-#include "lem/lateral_strain.hpp"
 #include "lem/log.hpp"
 #include "lem/options.hpp"
 
@@ -481,20 +480,6 @@ void ElasticSystem::set_up_preconditioner() {
   pc_stale_ = false;
 }
 
-void ElasticSystem::rescale(double top_displacement) {
-  if (operator_changed_ || current_displacement_ == 0.0 || !equilibrium_)
-    throw std::logic_error("ElasticSystem::rescale: K changed (or nothing solved to "
-                           "-ksp_rtol) since the last solve");
-  LEM_PETSC(VecScale(u_, top_displacement / current_displacement_));
-  // Prescribed values exactly (the scaled ones may differ in the last bit).
-  PetscScalar* u = nullptr;
-  LEM_PETSC(VecGetArray(u_, &u));
-  for (int n = 0; n < lattice_.owned; ++n)
-    if (lattice_.dof_flags[n] & kLoadedTop) u[3 * n + 2] = top_displacement;
-  LEM_PETSC(VecRestoreArray(u_, &u));
-  current_displacement_ = top_displacement;
-  update_ghosts();
-}
 
 void ElasticSystem::pin_nodes(const std::vector<int>& local_nodes) {
   for (int n : local_nodes) {
@@ -509,111 +494,6 @@ void ElasticSystem::pin_nodes(const std::vector<int>& local_nodes) {
   }
   if (bonds_) bonds_->constraints_changed();
   if (deflation_) deflation_->constraints_changed();
-}
-
-std::vector<double> ElasticSystem::solution() const {
-  std::vector<double> values(3 * static_cast<std::size_t>(lattice_.owned));
-  const PetscScalar* u = nullptr;
-  LEM_PETSC(VecGetArrayRead(u_, &u));
-  std::copy(u, u + values.size(), values.begin());
-  LEM_PETSC(VecRestoreArrayRead(u_, &u));
-  return values;
-}
-
-void ElasticSystem::set_state(const std::vector<double>& owned_values, double top_displacement) {
-  if (owned_values.size() != 3 * static_cast<std::size_t>(lattice_.owned))
-    throw std::logic_error("ElasticSystem::set_state: wrong number of values");
-  PetscScalar* u = nullptr;
-  LEM_PETSC(VecGetArray(u_, &u));
-  std::copy(owned_values.begin(), owned_values.end(), u);
-  LEM_PETSC(VecRestoreArray(u_, &u));
-  current_displacement_ = top_displacement;
-  operator_changed_ = false;  // the caller restores a solution of the current K
-  equilibrium_ = true;
-  update_ghosts();
-}
-
-void ElasticSystem::update_ghosts() const {
-  LEM_PETSC(VecGhostUpdateBegin(u_, INSERT_VALUES, SCATTER_FORWARD));
-  LEM_PETSC(VecGhostUpdateEnd(u_, INSERT_VALUES, SCATTER_FORWARD));
-}
-
-Point ElasticSystem::local_displacement(const PetscScalar* u_local, int node) const {
-  return {u_local[3 * node], u_local[3 * node + 1], u_local[3 * node + 2]};
-}
-
-namespace {
-// Calls f(bond, n, stretch) for every local bond, with the unit vector n from
-// the first to the second end and stretch = n.(u_second - u_first).
-template <class F>
-void for_each_bond_stretch(const DistributedLattice& l, Vec u_ghosted, F&& f) {
-  Vec local;
-  LEM_PETSC(VecGhostGetLocalForm(u_ghosted, &local));
-  const PetscScalar* u = nullptr;
-  LEM_PETSC(VecGetArrayRead(local, &u));
-  for (int b = 0; b < l.local_bonds(); ++b) {
-    const auto [p, q] = l.bond_ends[b];
-    double n[3], stretch = 0;
-    bond_direction(l, b, n);
-    for (int a = 0; a < 3; ++a) stretch += n[a] * (u[3 * q + a] - u[3 * p + a]);
-    f(b, n, stretch);
-  }
-  LEM_PETSC(VecRestoreArrayRead(local, &u));
-  LEM_PETSC(VecGhostRestoreLocalForm(u_ghosted, &local));
-}
-}  // namespace
-
-std::vector<double> ElasticSystem::bond_tensions() const {
-  std::vector<double> tension(lattice_.local_bonds());
-  for_each_bond_stretch(lattice_, u_, [&](int b, const double*, double stretch) {
-    tension[b] = lattice_.bond_stiffness[b] * stretch;
-  });
-  return tension;
-}
-
-std::vector<Point> ElasticSystem::owned_displacements() const {
-  std::vector<Point> d(lattice_.owned);
-  const PetscScalar* u = nullptr;
-  LEM_PETSC(VecGetArrayRead(u_, &u));
-  for (int n = 0; n < lattice_.owned; ++n) d[n] = local_displacement(u, n);
-  LEM_PETSC(VecRestoreArrayRead(u_, &u));
-  return d;
-}
-
-TensionResponse ElasticSystem::response() const {
-  const DistributedLattice& l = lattice_;
-  // sums: reaction, energy.
-  double sums[2] = {};
-  for_each_bond_stretch(l, u_, [&](int b, const double* n, double stretch) {
-    const double k = l.bond_stiffness[b], tension = k * stretch;
-    if (l.bond_reported[b]) sums[1] += 0.5 * k * stretch * stretch;
-    // The bond pulls its first end along +n and its second along -n; the
-    // load on a top node balances the pull of its bonds.
-    const auto [p, q] = l.bond_ends[b];
-    if (p < l.owned && (l.dof_flags[p] & kLoadedTop)) sums[0] -= tension * n[2];
-    if (q < l.owned && (l.dof_flags[q] & kLoadedTop)) sums[0] += tension * n[2];
-  });
-  double totals[2];
-  MPI_Allreduce(sums, totals, 2, MPI_DOUBLE, MPI_SUM, l.comm);
-  const PetscScalar* u = nullptr;
-  LEM_PETSC(VecGetArrayRead(u_, &u));
-  const LateralStrain lateral = lateral_strains(l, u);
-  LEM_PETSC(VecRestoreArrayRead(u_, &u));
-
-  TensionResponse r;
-  r.top_displacement = current_displacement_;
-  r.reaction = totals[0];
-  r.stored_energy = totals[1];
-  r.external_work = 0.5 * r.reaction * current_displacement_;
-  r.stress_zz = r.reaction / (l.box.length(0) * l.box.length(1));
-  r.strain_zz = current_displacement_ / l.box.length(2);
-  r.strain_xx = lateral.xx;
-  r.strain_yy = lateral.yy;
-  if (r.strain_zz != 0) {
-    r.young_modulus = r.stress_zz / r.strain_zz;
-    r.poisson_ratio = -(r.strain_xx + r.strain_yy) / (2 * r.strain_zz);
-  }
-  return r;
 }
 
 }  // namespace lem

@@ -48,6 +48,7 @@ SolveReport ElasticSystem::relax_patch(const std::vector<int>& owned_nodes, doub
     LEM_PETSC(VecRestoreSubVector(u_, is, &u_patch));
     update_ghosts();
     equilibrium_ = false;
+    u_check_.reset();  // a patch field has no certificate: it cannot be rescaled
   }
   LEM_PETSC(KSPDestroy(&ksp));
   LEM_PETSC(VecDestroy(&du));

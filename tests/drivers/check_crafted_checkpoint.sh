@@ -20,7 +20,7 @@ status=$?
   fail "no checkpoint from the failing run (exit $status): $(tail -2 "$work/source.log")"
 # Each case in its own copy of the folder; the runs wait mostly for MPI to
 # start, so they go side by side.
-cases=(short_displacement nan_displacement bond_broken_twice node_out_of_range
+cases=(short_displacement nan_displacement short_check_field bond_broken_twice node_out_of_range
        batch_beyond_state bond_not_in_sample unchanged)
 for case in "${cases[@]}"; do
   cp -r "$work/source" "$work/$case"
@@ -41,6 +41,7 @@ expect() {  # expect CASE PATTERN: the crafted checkpoint was refused with PATTE
 valid="checkpoint '[^']*/checkpoint.bin' is not a valid lem checkpoint"
 expect short_displacement "$valid \(2850 displacement values for 951 nodes\)"
 expect nan_displacement "$valid \(displacement 5 is not finite\)"
+expect short_check_field "$valid \(2850 check field values for 951 nodes\)"
 expect bond_broken_twice "$valid \(bond [0-9]+ is broken twice\)"
 expect node_out_of_range "$valid \(node event 0 pins node 956, not one of the 951 nodes\)"
 expect batch_beyond_state "$valid \(bond event [0-9]+ is in batch 1000000, out of order"

@@ -7,7 +7,8 @@ The layout (src/protocol/checkpoint.cpp): 8 magic bytes, the state (its
 size as u64, then its bytes), the fingerprint (u64 length, text), the
 damage history (bond events, bond batches, node events, node batches,
 builds: each u64 count then int64 values), the displacements (u64 count,
-doubles), and the 64-bit FNV-1a checksum of everything before it.
+doubles), the check field of a decided field (the same; count 0 at an
+equilibrium), and the 64-bit FNV-1a checksum of everything before it.
 """
 import argparse
 import struct
@@ -43,9 +44,10 @@ def parse(data):
         n = u64()
         c[name] = list(struct.unpack_from("<%dq" % n, data, pos))
         pos += 8 * n
-    n = u64()
-    c["displacement"] = list(struct.unpack_from("<%dd" % n, data, pos))
-    pos += 8 * n
+    for name in ("displacement", "check_displacement"):
+        n = u64()
+        c[name] = list(struct.unpack_from("<%dd" % n, data, pos))
+        pos += 8 * n
     if pos + 8 != len(data) or struct.unpack_from("<Q", data, pos)[0] != fnv1a(data[:pos]):
         raise SystemExit("not a checkpoint of this layout (or its checksum is wrong)")
     return c
@@ -57,8 +59,8 @@ def build(c):
     out += struct.pack("<Q", len(c["fingerprint"])) + c["fingerprint"]
     for name in VECTORS:
         out += struct.pack("<Q%dq" % len(c[name]), len(c[name]), *c[name])
-    out += struct.pack("<Q%dd" % len(c["displacement"]), len(c["displacement"]),
-                       *c["displacement"])
+    for name in ("displacement", "check_displacement"):
+        out += struct.pack("<Q%dd" % len(c[name]), len(c[name]), *c[name])
     out += struct.pack("<Q", fnv1a(out))
     return bytes(out)
 
@@ -78,6 +80,10 @@ def nan_displacement(c):
     c["displacement"][5] = float("nan")
 
 
+def short_check_field(c):
+    c["check_displacement"] = c["displacement"][:-3]
+
+
 def bond_not_in_sample(c):
     c["bond_events"][2] = 10 ** 9
 
@@ -95,7 +101,8 @@ def batch_beyond_state(c):
     c["bond_batches"][-1] = 10 ** 6
 
 
-CASES = {f.__name__: f for f in (short_displacement, nan_displacement, bond_not_in_sample,
+CASES = {f.__name__: f for f in (short_displacement, nan_displacement, short_check_field,
+                                  bond_not_in_sample,
                                   bond_broken_twice, node_out_of_range, batch_beyond_state)}
 
 

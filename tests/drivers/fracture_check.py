@@ -263,21 +263,28 @@ def write_gold(a):
 
 # ---------------------------------------------------------------- curves
 def curves(a):
-    """Rows of A's curve present in B agree (same step numbers)."""
+    """Rows of A's curve present in B agree (same step numbers).  A step of A
+    without ruptures may be missing in B: a run whose load steps end on
+    decided fields predicts the next step from the forces at the top of their
+    error, and so evaluates a few steps more where nothing breaks."""
     def rows(path):
         lines = (line for line in open(path) if not line.startswith("#"))
         return {int(r["step"]): r for r in csv.DictReader(lines)}
     first, second = rows(os.path.join(a.a, "curve.csv")), rows(os.path.join(a.b, "curve.csv"))
     peak = max(abs(float(r["stress_norm"])) for r in second.values())
-    worst = 0.0
+    worst, skipped = 0.0, 0
     for step, r in first.items():
+        if step not in second and r["cycles"] == "0":
+            skipped += 1
+            continue
         if step not in second:
-            sys.exit(f"FAIL: step {step} missing in {a.b}")
+            sys.exit(f"FAIL: step {step} (with ruptures) missing in {a.b}")
         for k in ("stress_before_norm", "stress_norm"):
             worst = max(worst, abs(float(r[k]) - float(second[step][k])) / peak)
         if r["broken"] != second[step]["broken"]:
             sys.exit(f"FAIL: broken count differs at step {step}")
-    print(f"curves: {len(first)} rows compared, largest stress difference {worst:.2e} of the peak")
+    print(f"curves: {len(first) - skipped} rows compared ({skipped} steps without ruptures only "
+          f"in A), largest stress difference {worst:.2e} of the peak")
     if worst > a.tol:
         sys.exit(f"FAIL: stress differs by {worst:.2e} of the peak (tolerance {a.tol})")
 

@@ -108,7 +108,8 @@ TEST_F(FractureParts, FccCriticalBondsAreTheInclinedOnes) {
 // A batch is decided when some bond is critical beyond its error and none
 // lies within its error of its threshold: the inclined FCC bonds at 1.03
 // times their threshold, with errors (safety times the change since the
-// earlier iterate) below and above the 3 % margin.
+// earlier iterate) below and above the 3 % margin.  At 0.97 times their
+// threshold, the field holds (nothing breaks) on the same terms.
 TEST_F(FractureParts, DecidedBatchNeedsEveryBondOutsideItsError) {
   const double a = 1.0, eps_b = 1.05e-3;
   DistributedLattice l = fcc_with_break_strain(a, eps_b);
@@ -123,11 +124,32 @@ TEST_F(FractureParts, DecidedBatchNeedsEveryBondOutsideItsError) {
     for (int b = 0; b < l.local_bonds(); ++b) e[b] -= fraction * l.bond_strength[b];
     return e;
   };
-  EXPECT_TRUE(all.decided(t, shifted(0.01), 2.0));    // error 2 % < margin 3 %
-  EXPECT_FALSE(all.decided(t, shifted(0.02), 2.0));   // error 4 % > margin
-  EXPECT_FALSE(one.decided(t, t, 1.0));               // only the rule "all" stops early
+  EXPECT_EQ(all.decide(t, shifted(0.01), 2.0), FieldDecision::breaks);     // error 2 % < 3 %
+  EXPECT_EQ(all.decide(t, shifted(0.02), 2.0), FieldDecision::undecided);  // error 4 % > 3 %
+  EXPECT_EQ(one.decide(t, t, 1.0), FieldDecision::undecided);  // only the rule "all" breaks early
   system.solve(0.97 * 3 * eps_b * height);
-  EXPECT_FALSE(all.decided(system.bond_tensions(), system.bond_tensions(), 1.0));  // none critical
+  const std::vector<double> below = system.bond_tensions();
+  auto below_shifted = [&](double fraction) {
+    std::vector<double> e = below;
+    for (int b = 0; b < l.local_bonds(); ++b) e[b] -= fraction * l.bond_strength[b];
+    return e;
+  };
+  EXPECT_EQ(all.decide(below, below_shifted(0.01), 2.0), FieldDecision::holds);
+  EXPECT_EQ(all.decide(below, below_shifted(0.02), 2.0), FieldDecision::undecided);
+  EXPECT_EQ(one.decide(below, below, 1.0), FieldDecision::holds);
+  // The stress of a tension vector is the response's.
+  EXPECT_NEAR(system.stress_of(below), system.response().stress_zz,
+              1e-12 * std::abs(system.response().stress_zz));
+  // The next step from a field with errors: the forces at the top of their
+  // error come to the threshold earlier, never later.
+  system.solve(1e-4 * height);
+  const std::vector<double> at_1 = system.bond_tensions();
+  std::vector<double> off = at_1;
+  for (double& v : off) v *= 0.9;  // change 10 % of each force: error 10 % (safety 1)
+  const std::int64_t exact_step = all.next_step(at_1, 1, 1000);
+  const std::int64_t bounded = all.next_step(at_1, 1, 1000, &off, 1.0);
+  EXPECT_EQ(exact_step, 32);
+  EXPECT_EQ(bounded, 29);  // 1.1 k a 1e-4 / 3 per step: floor(31.5 / 1.1) + 1
 
 }
 
@@ -148,8 +170,8 @@ TEST_F(FractureParts, NearTiesAreInDoubt) {
   const std::vector<double> t = system.bond_tensions();
   EXPECT_TRUE(wide.in_doubt(t));
   EXPECT_FALSE(narrow.in_doubt(t));
-  EXPECT_FALSE(wide.decided(t, t, 1.0));  // no error, but in doubt
-  EXPECT_TRUE(narrow.decided(t, t, 1.0));
+  EXPECT_EQ(wide.decide(t, t, 1.0), FieldDecision::undecided);  // no error, but in doubt
+  EXPECT_EQ(narrow.decide(t, t, 1.0), FieldDecision::breaks);
   // k a 1e-4 / 3 per step: every inclined bond at its threshold at step 31.5.
   system.solve(1e-4 * height);
   const std::int64_t early = wide.next_step(system.bond_tensions(), 1, 1000);
@@ -166,6 +188,8 @@ TEST_F(FractureParts, NearTiesAreInDoubt) {
 // A solve that stops once the batch is decided (from the affine initial
 // guess, so CG has work to do) breaks the bonds the converged field breaks,
 // in fewer iterations; its state is no equilibrium until a full solve.
+// Scaled to another load, the field and its check field (the certificate)
+// scale alike: the scaled certificate decides the scaled batch.
 TEST_F(FractureParts, SolveStoppedOnceDecidedGivesTheConvergedBatch) {
   auto build = [] { return random_lattice(3000, 5); };
   DistributedLattice l = make_problem(build);
@@ -202,20 +226,33 @@ TEST_F(FractureParts, SolveStoppedOnceDecidedGivesTheConvergedBatch) {
   early.interval = 2;
   early.decided = [&] {
     std::vector<double> now = system.bond_tensions();
-    const bool done = !earlier.empty() && all.decided(now, earlier, 1.0);
+    if (!earlier.empty() && all.decide(now, earlier, 1.0) == FieldDecision::breaks) return true;
     earlier = std::move(now);
-    return done;
+    system.mark_check();
+    return false;
   };
   const SolveReport stopped = system.solve(top, &early);
   EXPECT_TRUE(stopped.stopped_early);
   const auto batch = all.find(system.bond_tensions());
   ASSERT_EQ(batch.size(), converged.size());
   for (std::size_t i = 0; i < batch.size(); ++i) EXPECT_EQ(batch[i].id, converged[i].id);
-  EXPECT_THROW(system.rescale(top), std::logic_error);  // not an equilibrium
+  EXPECT_FALSE(system.at_equilibrium());
+  const std::vector<double> t = system.bond_tensions(), c = system.check_tensions();
+  EXPECT_EQ(all.decide(t, c, 1.0), FieldDecision::breaks);
+  system.rescale(1.01 * top);
+  const std::vector<double> t2 = system.bond_tensions(), c2 = system.check_tensions();
+  double worst = 0, scale = 0;
+  for (int b = 0; b < l.local_bonds(); ++b) {
+    worst = std::max({worst, std::abs(t2[b] - 1.01 * t[b]), std::abs(c2[b] - 1.01 * c[b])});
+    scale = std::max(scale, std::abs(t[b]));
+  }
+  EXPECT_LE(worst, 1e-12 * scale);
+  system.rescale(top);
   const SolveReport rest = system.solve(top);
   EXPECT_FALSE(rest.stopped_early);
   EXPECT_GT(rest.iterations, 0);
-  EXPECT_NO_THROW(system.rescale(top));
+  EXPECT_TRUE(system.at_equilibrium());
+  EXPECT_THROW(system.check_tensions(), std::logic_error);  // no certificate at an equilibrium
   std::printf("decided after %d CG iterations; %d more to -ksp_rtol\n", stopped.iterations,
               rest.iterations);
 }

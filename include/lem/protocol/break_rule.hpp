@@ -43,6 +43,14 @@ double doubt_edge(double level, double band);
 /// doubt_edge(level, band) < t <= level + band (never with band 0).
 bool in_doubt(double tension, double level, double band);
 
+/// What a field that is no equilibrium decides, given an error estimate of
+/// every force (CriticalBonds::decide).
+enum class FieldDecision {
+  undecided,  // some force within its error of its level, or in doubt
+  breaks,     // some bond critical beyond its error, none undecided
+  holds,      // no bond critical, none within its error of its level
+};
+
 class CriticalBonds {
  public:
   /// Collective (the force floor is a global mean of the thresholds).
@@ -58,20 +66,24 @@ class CriticalBonds {
   /// Whether some bond is in doubt (in_doubt).  Collective.
   bool in_doubt(const std::vector<double>& tensions) const;
 
-  /// Whether an unfinished solve already decides the next batch: with the
-  /// error of each force estimated as `safety` times its change since the
-  /// `earlier` iterate, at least one bond is critical beyond its error and
-  /// no bond is within its error of its threshold or in doubt (so the
-  /// critical set of the current field is the one of the converged field).
-  /// Collective.
-  bool decided(const std::vector<double>& tensions, const std::vector<double>& earlier,
-               double safety) const;
+  /// What an unfinished field decides, with the error of each force
+  /// estimated as `safety` times its change since the `earlier` iterate:
+  /// `breaks` when at least one bond is critical beyond its error and no
+  /// bond is within its error of its level or in doubt (the critical set is
+  /// then the converged field's; only under the rule `all`), `holds` when
+  /// moreover no bond is critical.  Collective.
+  FieldDecision decide(const std::vector<double>& tensions, const std::vector<double>& earlier,
+                       double safety) const;
 
   /// First load step after `step` at which a bond becomes critical, or
   /// enters its doubt band, if the field is scaled from `step` (at most
-  /// max_steps + 1).  Collective.
+  /// max_steps + 1).  With `earlier` (a field that is no equilibrium), each
+  /// force is taken at the top of its error estimate (`safety` times its
+  /// change since `earlier`): the step is then never later than the
+  /// converged field's.  Collective.
   std::int64_t next_step(const std::vector<double>& tensions, std::int64_t step,
-                         std::int64_t max_steps) const;
+                         std::int64_t max_steps, const std::vector<double>* earlier = nullptr,
+                         double safety = 0) const;
 
   /// Throws InputError when the first increment already overloads more than
   /// 1e-3 of the bonds of positive threshold (the increment skips the

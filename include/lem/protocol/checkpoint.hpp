@@ -24,6 +24,9 @@ struct Checkpoint {
   std::string fingerprint;
   DamageHistory damage;
   std::vector<double> displacement;  // 3 per lattice node id
+  // The check field of a decided field (ElasticSystem::mark_check), 3 per
+  // lattice node id; empty when the displacement is an equilibrium.
+  std::vector<double> check_displacement;
 };
 
 /// Rank 0 only.  Throws InputError naming the file on failure.
@@ -61,7 +64,8 @@ class CheckpointStore {
   /// naming what differs.  Says so when the rank count changed.
   Checkpoint load() const;
   /// Remember the state at this equilibrium (owned displacements).
-  void hold(const FractureState& state, const DamageMark& damage, std::vector<double> owned_u);
+  void hold(const FractureState& state, const DamageMark& damage, std::vector<double> owned_u,
+            std::vector<double> owned_check);
   /// Write the held state.
   void save(const DamageLedger& ledger) const;
   const FractureState& held_state() const { return held_.state; }
@@ -73,7 +77,7 @@ class CheckpointStore {
   struct Held {
     FractureState state;
     DamageMark damage;
-    std::vector<double> u;
+    std::vector<double> u, check;  // owned values (check: empty at an equilibrium)
   } held_;
 };
 

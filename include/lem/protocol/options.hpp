@@ -42,6 +42,9 @@ struct FractureOptions {
   // decision_interval CG iterations); 0: every solve to -ksp_rtol.
   double decision_safety = 1;
   int decision_interval = 4;
+  // With decided solves, a load step may also end on a field that decides
+  // that nothing more breaks (kept equilibria are still solved to -ksp_rtol).
+  bool decided_closing = true;
   // A bond whose force is within tie_band * -ksp_rtol * (mean positive
   // threshold) of its level is decided on a re-solve to tie_rtol: solver
   // noise, which differs with the rank count, must not decide it.  0: off.

@@ -49,6 +49,8 @@ class FractureRecorder {
   /// Fields of the current state as snapshot_<step> when a multiple of
   /// -output_snapshot_steps was crossed since `previous_step`.  Collective.
   void snapshot_if_due(std::int64_t step, std::int64_t previous_step, const TensionResponse& r);
+  /// Whether snapshot_if_due writes at `step`.
+  bool snapshot_due(std::int64_t step, std::int64_t previous_step) const;
   /// elastic.h5: the first equilibrium with its node stresses.  Collective.
   void elastic_fields(const TensionResponse& r);
 

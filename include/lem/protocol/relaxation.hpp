@@ -44,16 +44,27 @@ struct RelaxationParts {
   /// of them, on every rank (each cycle ends on a global solve); it may
   /// throw to leave the relaxation there (a stop request).
   std::function<void(std::int64_t step, int cycles)> between_cycles = {};
+  /// Whether a load step that would end on a decided field (no
+  /// equilibrium) with this stress must end on an equilibrium instead: the
+  /// field is kept (a peak candidate, a snapshot, the end of the run).
+  std::function<bool(double stress)> needs_equilibrium = {};
 };
+
+/// The error of sigma_zz on a field a load step ends on, at most, relative
+/// to the peak (-fracture_decided_closing).
+constexpr double kClosingStressTolerance = 1e-6;
 
 class Relaxation {
  public:
   explicit Relaxation(const RelaxationParts& parts);
   virtual ~Relaxation() = default;
-  /// Starting from an equilibrium at `top_displacement`, break and relax
-  /// until no bond is critical in the global field, the faces separate, or
+  /// Starting from the field at `top_displacement` (an equilibrium, or a
+  /// decided field with its check field), break and relax until no bond is
+  /// critical in the global field, the faces separate, or
   /// (options.stop_within_step) the stress falls below the stop level.
-  /// Ends on a global equilibrium.  Collective.
+  /// Ends on a global equilibrium, or on a decided field that decides that
+  /// nothing more breaks (options.decided_closing) unless needs_equilibrium
+  /// says it is kept.  Collective.
   virtual RelaxationOutcome relax(std::int64_t step, double top_displacement, double strain,
                                   double stress_before) = 0;
 
@@ -66,12 +77,14 @@ class Relaxation {
   /// Count a broken batch in `out` (one more cycle) and report progress.
   void note_batch(std::int64_t step, const std::vector<Rupture>& batch, RelaxationOutcome& out);
   /// A relaxation solve after a batch; with options.decision_safety > 0 it
-  /// may end as soon as the next batch is decided (CriticalBonds::decided).
-  /// A solve that leaves no bond critical has gone to -ksp_rtol.  Collective.
+  /// may end as soon as the field decides the next batch, or (with
+  /// options.decided_closing) that nothing more breaks (CriticalBonds::
+  /// decide, decision_stands).  Collective.
   SolveReport solve_for_decision(double top_displacement);
-  /// The batch that breaks now in the current equilibrium: when some bond is
-  /// in doubt (CriticalBonds::in_doubt), decided on a re-solve to
-  /// options.tie_rtol first.  Collective.
+  /// The batch that breaks now: on an equilibrium, its critical bonds, those
+  /// in doubt (CriticalBonds::in_doubt) decided on a re-solve to
+  /// options.tie_rtol first; on a decided field, the bonds its certificate
+  /// decides, after a decided solve where it decides nothing.  Collective.
   std::vector<Rupture> next_batch(double top_displacement);
   /// options.stop_within_step and the stress has fallen below the stop level.
   bool stress_fell(double stress_before) const;
@@ -81,6 +94,13 @@ class Relaxation {
   RelaxationParts p_;
 
  private:
+  /// Decided solves are on (a safety > 0 and the rule `all`).
+  bool decides_early() const;
+  /// Whether `decision` of a field with these tensions (and those of its
+  /// check iterate) lets a solve stop: it breaks, or it holds with closing
+  /// solves on and its stress certain to kClosingStressTolerance.
+  bool decision_stands(FieldDecision decision, const std::vector<double>& now,
+                       const std::vector<double>& earlier) const;
   PieceFinder pieces_;
 };
 

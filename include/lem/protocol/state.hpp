@@ -23,6 +23,7 @@ struct FractureTally {
   std::int64_t rupture_steps = 0;  // steps with at least one rupture
   std::int64_t relaxation_cycles = 0;
   std::int64_t early_stops = 0;    // relaxation solves ended once the batch was decided
+  std::int64_t decided_steps = 0;  // load steps that ended on a decided field (no equilibrium)
   std::int64_t tie_solves = 0;     // re-solves to -fracture_tie_rtol for bonds in doubt
   // Local relaxation: patch solves, their CG iterations and total free
   // nodes, patches too large that went global, and the largest force error
