@@ -16,7 +16,6 @@
 #include "lem/tension_output.hpp"
 #include "lem/write_watch.hpp"
 
-#include <cstdio>
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -574,13 +573,7 @@ int main(int argc, char** argv) {
     // takes the old one's place.
     s.add_provenance(provenance);
     lem::run_on_root(comm, [&] {
-      lem::write_text_file_atomically(work + "/summary.csv", s.csv());
-      try {
-        lem::write_text_file_atomically(work + "/summary.json", s.json());
-      } catch (...) {  // no summary is left without its other half
-        std::remove((work + "/summary.csv").c_str());
-        throw;
-      }
+      s.write(work + "/summary");
       std::vector<std::string> files = {"curve.csv", "broken.csv", "summary.csv",
                                         "summary.json"};
       for (const auto& entry : std::filesystem::directory_iterator(work)) {

@@ -127,8 +127,7 @@ int main(int argc, char** argv) {
       lem::write_sample(path, sample, spec, provenance);
       lem::Summary summary = sample_summary(sample.stats, spec, path + ".h5");
       summary.add_provenance(provenance);
-      lem::write_text_file_atomically(dir + "/" + summary_stem + ".csv", summary.csv());
-      lem::write_text_file_atomically(dir + "/" + summary_stem + ".json", summary.json());
+      summary.write(dir + "/" + summary_stem);
     });
     lem::say("results in %s/: %s.h5, %s.xmf (ParaView), %s.json/.csv\n", dir.c_str(),
              stem.c_str(), stem.c_str(), summary_stem.c_str());

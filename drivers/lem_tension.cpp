@@ -90,8 +90,7 @@ int main(int argc, char** argv) {
     MPI_Comm_rank(comm, &rank);
     if (rank == 0) {
       summary.add_provenance(provenance);
-      lem::write_text_file_atomically(dir + "/summary.csv", summary.csv());
-      lem::write_text_file_atomically(dir + "/summary.json", summary.json());
+      summary.write(dir + "/summary");
     }
     lem::say("results in %s/\n", dir.c_str());
   });

@@ -24,6 +24,10 @@ class Summary {
   void add_provenance(const Provenance& provenance);
   std::string json() const;
   std::string csv() const;
+  /// <stem>.csv and <stem>.json, each written atomically, and both or
+  /// neither: when the second write fails, the first file is removed.
+  /// Throws IoError naming the file.
+  void write(const std::string& stem) const;
   /// The numeric entries (for HDF5 attributes).
   std::vector<std::pair<std::string, double>> numbers() const;
 

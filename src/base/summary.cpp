@@ -1,5 +1,7 @@
 #include "lem/summary.hpp"
 
+#include "lem/files.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -100,6 +102,16 @@ std::vector<std::pair<std::string, double>> Summary::numbers() const {
       out.emplace_back(e.name, static_cast<double>(*i));
   }
   return out;
+}
+
+void Summary::write(const std::string& stem) const {
+  write_text_file_atomically(stem + ".csv", csv());
+  try {
+    write_text_file_atomically(stem + ".json", json());
+  } catch (...) {  // no summary is left without its other half (a full disk)
+    std::remove((stem + ".csv").c_str());
+    throw;
+  }
 }
 
 }  // namespace lem

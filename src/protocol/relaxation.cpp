@@ -5,6 +5,7 @@
 #include "lem/log.hpp"
 
 #include <algorithm>
+#include <utility>
 
 namespace lem {
 
@@ -81,22 +82,32 @@ SolveReport Relaxation::solve_for_decision(double top_displacement) {
   // optimistic: the residual converges faster than the slow modes of the
   // error, docs/fracture.md).  The iterate of the last check is kept beside
   // the field: it is the certificate of what the field decides.
+  std::vector<double> decided;
   early.decided = [&] {
     LogStageScope stage("Decisions");
     std::vector<double> now = p_.system.bond_tensions();
     if (!earlier.empty() &&
         decision_stands(p_.critical.decide(now, earlier, p_.options.decision_safety), now,
-                        earlier))
+                        earlier)) {
+      decided = std::move(now);
       return true;
+    }
     earlier = std::move(now);
     p_.system.mark_check();
     return false;
   };
-  return p_.solver.solve(top_displacement, true, &early);
+  const SolveReport report = p_.solver.solve(top_displacement, true, &early);
+  // The next batch reads the forces the stop was decided on.
+  if (report.stopped_early) decided_ = {std::move(decided), p_.tally.solves};
+  return report;
 }
 
 std::vector<Rupture> Relaxation::next_batch(double top_displacement) {
   LogStageScope stage("Decisions");  // a solve logs under its own stage
+  // Taken once: after this call the field may be scaled to another load.
+  const DecidedForces last = std::exchange(decided_, DecidedForces{});
+  if (!p_.system.at_equilibrium() && last.solves == p_.tally.solves)
+    return p_.critical.find(last.tensions);  // the field the last solve stopped on: decided
   std::vector<double> tensions = p_.system.bond_tensions();
   if (!p_.system.at_equilibrium()) {
     // A field a decided solve left (scaled since, perhaps): its certificate
@@ -105,6 +116,7 @@ std::vector<Rupture> Relaxation::next_batch(double top_displacement) {
     const FieldDecision d = p_.critical.decide(tensions, earlier, p_.options.decision_safety);
     if (!decision_stands(d, tensions, earlier)) {
       solve_for_decision(top_displacement);
+      decided_ = {};  // its forces are read here
       tensions = p_.system.bond_tensions();
     }
   }
@@ -134,16 +146,8 @@ RelaxationOutcome GlobalRelaxation::relax(std::int64_t step, double top_displace
   for (;;) {
     next_cycle(step, out);
     const std::vector<Rupture> critical = next_batch(top_displacement);
-    if (critical.empty()) {
-      // A decided field that is kept (a peak, a snapshot, the end) is
-      // solved to -ksp_rtol first, and decided again.
-      if (!p_.system.at_equilibrium() && p_.needs_equilibrium &&
-          p_.needs_equilibrium(p_.system.response().stress_zz)) {
-        p_.solver.solve(top_displacement, true);
-        continue;
-      }
-      break;
-    }
+    // An equilibrium, or a decided field that may end the step (decision_stands).
+    if (critical.empty()) break;
     const bool joined = break_batch(critical, step, out.cycles, strain);
     // The run ends after a disconnecting batch: solve it to -ksp_rtol.
     const SolveReport solved = joined ? solve_for_decision(top_displacement)

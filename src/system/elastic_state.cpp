@@ -13,10 +13,15 @@
 
 namespace lem {
 
-void ElasticSystem::update_ghosts() const {
-  LEM_PETSC(VecGhostUpdateBegin(u_, INSERT_VALUES, SCATTER_FORWARD));
-  LEM_PETSC(VecGhostUpdateEnd(u_, INSERT_VALUES, SCATTER_FORWARD));
+namespace {
+// The ghost values of a ghosted field from their owners.
+void update_ghost_values(Vec u_ghosted) {
+  LEM_PETSC(VecGhostUpdateBegin(u_ghosted, INSERT_VALUES, SCATTER_FORWARD));
+  LEM_PETSC(VecGhostUpdateEnd(u_ghosted, INSERT_VALUES, SCATTER_FORWARD));
 }
+}  // namespace
+
+void ElasticSystem::update_ghosts() const { update_ghost_values(u_); }
 
 Point ElasticSystem::local_displacement(const PetscScalar* u_local, int node) const {
   return {u_local[3 * node], u_local[3 * node + 1], u_local[3 * node + 2]};
@@ -41,9 +46,17 @@ void for_each_bond_stretch(const DistributedLattice& l, Vec u_ghosted, F&& f) {
   LEM_PETSC(VecRestoreArrayRead(local, &u));
   LEM_PETSC(VecGhostRestoreLocalForm(u_ghosted, &local));
 }
-}  // namespace
 
-namespace {
+// A bond's share of the reaction on the top face (the load on a top node
+// balances the pull of its bonds: +n on the first end, -n on the second).
+double top_load_share(const DistributedLattice& l, int b, const double* n, double tension) {
+  const auto [p, q] = l.bond_ends[b];
+  double share = 0;
+  if (p < l.owned && (l.dof_flags[p] & kLoadedTop)) share -= tension * n[2];
+  if (q < l.owned && (l.dof_flags[q] & kLoadedTop)) share += tension * n[2];
+  return share;
+}
+
 std::vector<double> tensions_of(const DistributedLattice& l, Vec u_ghosted) {
   std::vector<double> tension(l.local_bonds());
   for_each_bond_stretch(l, u_ghosted, [&](int b, const double*, double stretch) {
@@ -67,14 +80,12 @@ double ElasticSystem::stress_of(const std::vector<double>& tension) const {
   double local = 0, total = 0;
   for (int b = 0; b < l.local_bonds(); ++b) {
     const auto [p, q] = l.bond_ends[b];
-    const bool top_p = p < l.owned && (l.dof_flags[p] & kLoadedTop);
-    const bool top_q = q < l.owned && (l.dof_flags[q] & kLoadedTop);
-    if (!top_p && !top_q) continue;
+    if (!((p < l.owned && (l.dof_flags[p] & kLoadedTop)) ||
+          (q < l.owned && (l.dof_flags[q] & kLoadedTop))))
+      continue;  // the direction only where it counts
     double n[3];
     bond_direction(l, b, n);
-    // As in response(): the load on a top node balances its bonds' pull.
-    if (top_p) local -= tension[b] * n[2];
-    if (top_q) local += tension[b] * n[2];
+    local += top_load_share(l, b, n, tension[b]);
   }
   MPI_Allreduce(&local, &total, 1, MPI_DOUBLE, MPI_SUM, l.comm);
   return total / (l.box.length(0) * l.box.length(1));
@@ -96,11 +107,7 @@ TensionResponse ElasticSystem::response() const {
   for_each_bond_stretch(l, u_, [&](int b, const double* n, double stretch) {
     const double k = l.bond_stiffness[b], tension = k * stretch;
     if (l.bond_reported[b]) sums[1] += 0.5 * k * stretch * stretch;
-    // The bond pulls its first end along +n and its second along -n; the
-    // load on a top node balances the pull of its bonds.
-    const auto [p, q] = l.bond_ends[b];
-    if (p < l.owned && (l.dof_flags[p] & kLoadedTop)) sums[0] -= tension * n[2];
-    if (q < l.owned && (l.dof_flags[q] & kLoadedTop)) sums[0] += tension * n[2];
+    sums[0] += top_load_share(l, b, n, tension);
   });
   double totals[2];
   MPI_Allreduce(sums, totals, 2, MPI_DOUBLE, MPI_SUM, l.comm);
@@ -125,7 +132,6 @@ TensionResponse ElasticSystem::response() const {
   return r;
 }
 
-
 namespace {
 // Scale a ghosted field to a new top displacement.  `top`: set the loaded
 // top values exactly to it (an equilibrium, whose scaled values may differ
@@ -139,8 +145,7 @@ void scale_field(const DistributedLattice& l, Vec u_ghosted, double factor, doub
       if (l.dof_flags[n] & kLoadedTop) u[3 * n + 2] = top;
     LEM_PETSC(VecRestoreArray(u_ghosted, &u));
   }
-  LEM_PETSC(VecGhostUpdateBegin(u_ghosted, INSERT_VALUES, SCATTER_FORWARD));
-  LEM_PETSC(VecGhostUpdateEnd(u_ghosted, INSERT_VALUES, SCATTER_FORWARD));
+  update_ghost_values(u_ghosted);
 }
 
 std::vector<double> owned_values(const DistributedLattice& l, Vec u_ghosted) {
@@ -157,8 +162,7 @@ void set_owned_values(Vec u_ghosted, const std::vector<double>& values) {
   LEM_PETSC(VecGetArray(u_ghosted, &u));
   std::copy(values.begin(), values.end(), u);
   LEM_PETSC(VecRestoreArray(u_ghosted, &u));
-  LEM_PETSC(VecGhostUpdateBegin(u_ghosted, INSERT_VALUES, SCATTER_FORWARD));
-  LEM_PETSC(VecGhostUpdateEnd(u_ghosted, INSERT_VALUES, SCATTER_FORWARD));
+  update_ghost_values(u_ghosted);
 }
 }  // namespace
 
@@ -183,8 +187,7 @@ void ElasticSystem::rescale(double top_displacement) {
 void ElasticSystem::mark_check() {
   if (!u_check_) LEM_PETSC(VecDuplicate(u_, u_check_.replace()));
   LEM_PETSC(VecCopy(u_, u_check_));
-  LEM_PETSC(VecGhostUpdateBegin(u_check_, INSERT_VALUES, SCATTER_FORWARD));
-  LEM_PETSC(VecGhostUpdateEnd(u_check_, INSERT_VALUES, SCATTER_FORWARD));
+  update_ghost_values(u_check_);
 }
 
 std::vector<double> ElasticSystem::solution() const { return owned_values(lattice_, u_); }

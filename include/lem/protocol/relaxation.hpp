@@ -101,6 +101,13 @@ class Relaxation {
   /// solves on and its stress certain to kClosingStressTolerance.
   bool decision_stands(FieldDecision decision, const std::vector<double>& now,
                        const std::vector<double>& earlier) const;
+  /// The forces a decided solve stopped on, and the solve count after it
+  /// (tally.solves): next_batch takes its batch from them without deciding
+  /// again while no other solve came in between.
+  struct DecidedForces {
+    std::vector<double> tensions;
+    std::int64_t solves = -1;
+  } decided_;
   PieceFinder pieces_;
 };
 
