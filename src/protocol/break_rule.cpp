@@ -94,7 +94,9 @@ std::vector<Rupture> CriticalBonds::find(const std::vector<double>& tension) con
 }
 
 FieldDecision CriticalBonds::decide(const std::vector<double>& tension,
-                                    const std::vector<double>& earlier, double safety) const {
+                                    const std::vector<double>& earlier, double safety,
+                                    NearTies near_ties) const {
+  const bool doubt_undecided = near_ties == NearTies::undecided;
   const DistributedLattice& l = lattice_;
   std::int64_t counts[2] = {0, 0}, totals[2];  // certainly critical, undecided
   for (int b = 0; b < l.local_bonds(); ++b) {
@@ -102,7 +104,8 @@ FieldDecision CriticalBonds::decide(const std::vector<double>& tension,
     const double t = tension[b];
     const double error = safety * std::abs(t - earlier[b]);
     const double level = this->level(b);
-    if (!std::isfinite(t) || std::abs(t - level) <= error || lem::in_doubt(t, level, band_)) {
+    if (!std::isfinite(t) || std::abs(t - level) <= error ||
+        (doubt_undecided && lem::in_doubt(t, level, band_))) {
       counts[1] += 1;  // a non-finite force is left to the full solve (find() names it)
       break;
     }

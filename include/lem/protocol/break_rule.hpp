@@ -51,6 +51,12 @@ enum class FieldDecision {
   holds,      // no bond critical, none within its error of its level
 };
 
+/// How CriticalBonds::decide treats a bond in its doubt band.
+enum class NearTies {
+  undecided,    // always undecided: a solve to -ksp_rtol, then one to -fracture_tie_rtol
+  by_estimate,  // like any other bond, by its error estimate (the re-solve of near-ties)
+};
+
 class CriticalBonds {
  public:
   /// Collective (the force floor is a global mean of the thresholds).
@@ -73,7 +79,7 @@ class CriticalBonds {
   /// then the converged field's; only under the rule `all`), `holds` when
   /// moreover no bond is critical.  Collective.
   FieldDecision decide(const std::vector<double>& tensions, const std::vector<double>& earlier,
-                       double safety) const;
+                       double safety, NearTies near_ties = NearTies::undecided) const;
 
   /// First load step after `step` at which a bond becomes critical, or
   /// enters its doubt band, if the field is scaled from `step` (at most
