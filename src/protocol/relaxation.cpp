@@ -79,7 +79,7 @@ SolveReport Relaxation::solve_for_decision(double top_displacement, bool near_ti
   if (!decides_early()) return solve(nullptr);
   // A near-tie is a bond within the doubt band of its level on a field at
   // -ksp_rtol; the re-solve goes on from there only until the estimate
-  // decides it (a bond at 1e-9 of its level still takes it to tie_rtol).
+  // decides it, and to tie_rtol for a bond within that tolerance's own band.
   const NearTies ties = near_ties ? NearTies::by_estimate : NearTies::undecided;
   std::vector<double> earlier;
   EarlyStop early;

@@ -180,6 +180,11 @@ TEST_F(FractureParts, NearTiesAreInDoubt) {
   EXPECT_EQ(wide.decide(t, off, 1.0, NearTies::by_estimate), FieldDecision::breaks);
   for (double& x : off) x *= 0.95;  // about 6 %: not
   EXPECT_EQ(wide.decide(t, off, 1.0, NearTies::by_estimate), FieldDecision::undecided);
+  // Within the resolution (the band of the re-solve's tolerance): a tie
+  // whatever the estimate; the nearest bonds are 0.8 % of the mean away.
+  CriticalBonds resolved(l, BreakRule::all, 0.05, 0.005), unresolved(l, BreakRule::all, 0.05, 0.04);
+  EXPECT_EQ(resolved.decide(t, t, 1.0, NearTies::by_estimate), FieldDecision::breaks);
+  EXPECT_EQ(unresolved.decide(t, t, 1.0, NearTies::by_estimate), FieldDecision::undecided);
   // k a 1e-4 / 3 per step: every inclined bond at its threshold at step 31.5.
   system.solve(1e-4 * height);
   const std::int64_t early = wide.next_step(system.bond_tensions(), 1, 1000);
