@@ -106,9 +106,8 @@ class ElasticSystem {
   /// it (the certificate of its decisions).
   SolveReport solve(double top_displacement, const EarlyStop* early = nullptr);
   /// The same to relative tolerance `rtol` instead of -ksp_rtol (the
-  /// fallback solver too), `early` as in solve(); the tolerances are
-  /// restored afterwards.
-  SolveReport solve_to(double rtol, double top_displacement, const EarlyStop* early = nullptr);
+  /// fallback solver too); the tolerances are restored afterwards.
+  SolveReport solve_to(double rtol, double top_displacement);
   /// -ksp_rtol.
   double rtol() const;
 

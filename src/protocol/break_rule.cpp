@@ -30,8 +30,7 @@ bool in_doubt(double tension, double level, double band) {
   return band > 0 && tension > doubt_edge(level, band) && tension <= level + band;
 }
 
-CriticalBonds::CriticalBonds(const DistributedLattice& l, BreakRule rule, double tie_band,
-                             double tie_resolution)
+CriticalBonds::CriticalBonds(const DistributedLattice& l, BreakRule rule, double tie_band)
     : lattice_(l), rule_(rule) {
   // Forces below the floor are solver noise.
   double sums[2] = {0, 0}, totals[2];
@@ -42,7 +41,6 @@ CriticalBonds::CriticalBonds(const DistributedLattice& l, BreakRule rule, double
   mean_threshold_ = totals[1] > 0 ? totals[0] / totals[1] : 1.0;
   force_floor_ = totals[1] > 0 ? 1e-6 * totals[0] / totals[1] : 0.0;
   band_ = tie_band * mean_threshold_;
-  resolution_ = tie_resolution * mean_threshold_;
 }
 
 double CriticalBonds::level(int b) const {
@@ -96,13 +94,7 @@ std::vector<Rupture> CriticalBonds::find(const std::vector<double>& tension) con
 }
 
 FieldDecision CriticalBonds::decide(const std::vector<double>& tension,
-                                    const std::vector<double>& earlier, double safety,
-                                    NearTies near_ties) const {
-  // A bond in doubt closer to its level than the resolution is a tie that
-  // only the re-solve's own accuracy may decide (a bare contact whose force
-  // is noise at the floor, say), whatever its error estimate.
-  const double resolution =
-      near_ties == NearTies::undecided ? std::numeric_limits<double>::infinity() : resolution_;
+                                    const std::vector<double>& earlier, double safety) const {
   const DistributedLattice& l = lattice_;
   std::int64_t counts[2] = {0, 0}, totals[2];  // certainly critical, undecided
   for (int b = 0; b < l.local_bonds(); ++b) {
@@ -110,9 +102,7 @@ FieldDecision CriticalBonds::decide(const std::vector<double>& tension,
     const double t = tension[b];
     const double error = safety * std::abs(t - earlier[b]);
     const double level = this->level(b);
-    const double distance = std::abs(t - level);
-    if (!std::isfinite(t) || distance <= error ||
-        (distance <= resolution && lem::in_doubt(t, level, band_))) {
+    if (!std::isfinite(t) || std::abs(t - level) <= error || lem::in_doubt(t, level, band_)) {
       counts[1] += 1;  // a non-finite force is left to the full solve (find() names it)
       break;
     }

@@ -45,10 +45,7 @@ class Protocol {
  public:
   Protocol(DistributedLattice& l, ElasticSystem& s, const FractureOptions& o,
            const Provenance& provenance)
-      : l_(l),
-        system_(s),
-        o_(o),
-        critical_(l, o.break_rule, o.tie_band * s.rtol(), o.tie_band * o.tie_rtol),
+      : l_(l), system_(s), o_(o), critical_(l, o.break_rule, o.tie_band * s.rtol()),
         ledger_(l, s),
         solver_(s, ledger_, {o.rebuild_after_ruptures, o.rebuild_iteration_growth},
                 state_.preconditioner, state_.tally),

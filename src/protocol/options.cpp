@@ -109,9 +109,7 @@ FractureOptions read_fracture_options(MPI_Comm comm) {
         "-fracture_tie_rtol, so that solver noise (which depends on the rank count) decides no "
         "rupture.  0: decide on the field as solved", o.tie_band, 0.0, 1e12);
     o.tie_rtol = g.real("-fracture_tie_rtol", "Relative tolerance of the re-solve that decides "
-                        "near-ties (-fracture_tie_band); none when -ksp_rtol is not above it.  "
-                        "With -fracture_decision_safety > 0 the re-solve stops earlier, once the "
-                        "error estimate of every force decides it",
+                        "near-ties (-fracture_tie_band); none when -ksp_rtol is not above it",
                         o.tie_rtol, 0.0, 1.0, true);
   }
   {

@@ -34,9 +34,8 @@ SolveReport PreconditionerPolicy::solve(double top_displacement, bool relaxation
   return count(system_.solve(top_displacement, early), relaxation);
 }
 
-SolveReport PreconditionerPolicy::solve_to(double rtol, double top_displacement,
-                                           const EarlyStop* early) {
-  return count(system_.solve_to(rtol, top_displacement, early), false);
+SolveReport PreconditionerPolicy::solve_to(double rtol, double top_displacement) {
+  return count(system_.solve_to(rtol, top_displacement), false);
 }
 
 SolveReport PreconditionerPolicy::count(const SolveReport& report, bool relaxation) {

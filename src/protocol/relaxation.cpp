@@ -71,16 +71,8 @@ bool Relaxation::decision_stands(FieldDecision decision, const std::vector<doubl
          !(p_.needs_equilibrium && p_.needs_equilibrium(stress));
 }
 
-SolveReport Relaxation::solve_for_decision(double top_displacement, bool near_ties) {
-  const auto solve = [&](const EarlyStop* early) {
-    return near_ties ? p_.solver.solve_to(p_.options.tie_rtol, top_displacement, early)
-                     : p_.solver.solve(top_displacement, true, early);
-  };
-  if (!decides_early()) return solve(nullptr);
-  // A near-tie is a bond within the doubt band of its level on a field at
-  // -ksp_rtol; the re-solve goes on from there only until the estimate
-  // decides it, and to tie_rtol for a bond within that tolerance's own band.
-  const NearTies ties = near_ties ? NearTies::by_estimate : NearTies::undecided;
+SolveReport Relaxation::solve_for_decision(double top_displacement) {
+  if (!decides_early()) return p_.solver.solve(top_displacement, true);
   std::vector<double> earlier;
   EarlyStop early;
   early.interval = p_.options.decision_interval;
@@ -95,7 +87,7 @@ SolveReport Relaxation::solve_for_decision(double top_displacement, bool near_ti
     LogStageScope stage("Decisions");
     std::vector<double> now = p_.system.bond_tensions();
     if (!earlier.empty() &&
-        decision_stands(p_.critical.decide(now, earlier, p_.options.decision_safety, ties), now,
+        decision_stands(p_.critical.decide(now, earlier, p_.options.decision_safety), now,
                         earlier)) {
       decided = std::move(now);
       return true;
@@ -104,7 +96,7 @@ SolveReport Relaxation::solve_for_decision(double top_displacement, bool near_ti
     p_.system.mark_check();
     return false;
   };
-  const SolveReport report = solve(&early);
+  const SolveReport report = p_.solver.solve(top_displacement, true, &early);
   // The next batch reads the forces the stop was decided on.
   if (report.stopped_early) decided_ = {std::move(decided), p_.tally.solves};
   return report;
@@ -131,8 +123,7 @@ std::vector<Rupture> Relaxation::next_batch(double top_displacement) {
   // A solve already as tight as the tie tolerance gains nothing from another.
   if (p_.system.at_equilibrium() && p_.options.tie_rtol < p_.system.rtol() &&
       p_.critical.in_doubt(tensions)) {
-    solve_for_decision(top_displacement, true);
-    decided_ = {};  // its forces are read here
+    p_.solver.solve_to(p_.options.tie_rtol, top_displacement);
     p_.tally.tie_solves += 1;
     tensions = p_.system.bond_tensions();
   }

@@ -300,8 +300,7 @@ SolveReport ElasticSystem::solve(double top_displacement, const EarlyStop* early
   return report;
 }
 
-SolveReport ElasticSystem::solve_to(double rtol, double top_displacement,
-                                    const EarlyStop* early) {
+SolveReport ElasticSystem::solve_to(double rtol, double top_displacement) {
   // Both solvers, since a failed multigrid solve is finished by the fallback.
   struct Tolerance {
     KSP ksp;
@@ -317,7 +316,7 @@ SolveReport ElasticSystem::solve_to(double rtol, double top_displacement,
   SolveReport report;
   tighter_solve_ = true;
   try {
-    report = solve(top_displacement, early);
+    report = solve(top_displacement);
   } catch (...) {
     tighter_solve_ = false;
     for (Tolerance& t : kept) KSPSetTolerances(t.ksp, t.rtol, t.abstol, t.dtol, t.max_it);

@@ -158,8 +158,7 @@ TEST_F(FractureParts, DecidedBatchNeedsEveryBondOutsideItsError) {
 // bonds have a quarter of the bulk threshold, so 3 % of theirs is still
 // ~0.8 % of the mean); a batch in doubt is never decided early; the next
 // step is predicted from the edge of the band, earlier but at most at half
-// the threshold; the re-solve of near-ties decides them by their error
-// estimate.  A solve to a tighter tolerance leaves -ksp_rtol as it was.
+// the threshold.  A solve to a tighter tolerance leaves -ksp_rtol as it was.
 TEST_F(FractureParts, NearTiesAreInDoubt) {
   const double a = 1.0, eps_b = 1.05e-3;
   DistributedLattice l = fcc_with_break_strain(a, eps_b);
@@ -173,18 +172,6 @@ TEST_F(FractureParts, NearTiesAreInDoubt) {
   EXPECT_FALSE(narrow.in_doubt(t));
   EXPECT_EQ(wide.decide(t, t, 1.0), FieldDecision::undecided);  // no error, but in doubt
   EXPECT_EQ(narrow.decide(t, t, 1.0), FieldDecision::breaks);
-  // The re-solve of near-ties decides them by their error estimate: 3 % above.
-  EXPECT_EQ(wide.decide(t, t, 1.0, NearTies::by_estimate), FieldDecision::breaks);
-  std::vector<double> off(t);
-  for (double& x : off) x *= 0.99;  // a 1 % error estimate: still decided
-  EXPECT_EQ(wide.decide(t, off, 1.0, NearTies::by_estimate), FieldDecision::breaks);
-  for (double& x : off) x *= 0.95;  // about 6 %: not
-  EXPECT_EQ(wide.decide(t, off, 1.0, NearTies::by_estimate), FieldDecision::undecided);
-  // Within the resolution (the band of the re-solve's tolerance): a tie
-  // whatever the estimate; the nearest bonds are 0.8 % of the mean away.
-  CriticalBonds resolved(l, BreakRule::all, 0.05, 0.005), unresolved(l, BreakRule::all, 0.05, 0.04);
-  EXPECT_EQ(resolved.decide(t, t, 1.0, NearTies::by_estimate), FieldDecision::breaks);
-  EXPECT_EQ(unresolved.decide(t, t, 1.0, NearTies::by_estimate), FieldDecision::undecided);
   // k a 1e-4 / 3 per step: every inclined bond at its threshold at step 31.5.
   system.solve(1e-4 * height);
   const std::int64_t early = wide.next_step(system.bond_tensions(), 1, 1000);

@@ -51,21 +51,12 @@ enum class FieldDecision {
   holds,      // no bond critical, none within its error of its level
 };
 
-/// How CriticalBonds::decide treats a bond in its doubt band.
-enum class NearTies {
-  undecided,    // always undecided: a solve to -ksp_rtol, then one to -fracture_tie_rtol
-  by_estimate,  // by its error estimate, unless within the tie resolution of its level
-};
-
 class CriticalBonds {
  public:
   /// Collective (the force floor is a global mean of the thresholds).
   /// `tie_band`: width of the doubt band in units of the mean positive
-  /// threshold (0: no bond is ever in doubt); `tie_resolution`: the part of
-  /// it that only a re-solve to -fracture_tie_rtol decides (the band of that
-  /// tolerance, same units).
-  CriticalBonds(const DistributedLattice& lattice, BreakRule rule, double tie_band = 0,
-                double tie_resolution = 0);
+  /// threshold (0: no bond is ever in doubt).
+  CriticalBonds(const DistributedLattice& lattice, BreakRule rule, double tie_band = 0);
 
   /// The bonds that break now under the rule, the same list on every rank
   /// (all critical ones ordered by id, or the most critical one).  Collective;
@@ -80,11 +71,9 @@ class CriticalBonds {
   /// `breaks` when at least one bond is critical beyond its error and no
   /// bond is within its error of its level or in doubt (the critical set is
   /// then the converged field's; only under the rule `all`), `holds` when
-  /// moreover no bond is critical.  With NearTies::by_estimate a bond in
-  /// doubt is decided like the others when it is farther than the tie
-  /// resolution from its level.  Collective.
+  /// moreover no bond is critical.  Collective.
   FieldDecision decide(const std::vector<double>& tensions, const std::vector<double>& earlier,
-                       double safety, NearTies near_ties = NearTies::undecided) const;
+                       double safety) const;
 
   /// First load step after `step` at which a bond becomes critical, or
   /// enters its doubt band, if the field is scaled from `step` (at most
@@ -112,7 +101,7 @@ class CriticalBonds {
 
   const DistributedLattice& lattice_;
   BreakRule rule_;
-  double mean_threshold_ = 1, force_floor_ = 0, band_ = 0, resolution_ = 0;
+  double mean_threshold_ = 1, force_floor_ = 0, band_ = 0;
 };
 
 }  // namespace lem

@@ -29,7 +29,7 @@ class PreconditionerPolicy {
   /// that `early` ends before -ksp_rtol does not enter the iteration rule.
   SolveReport solve(double top_displacement, bool relaxation, const EarlyStop* early = nullptr);
   /// A solve to `rtol` instead of -ksp_rtol, counted; outside the iteration rule.
-  SolveReport solve_to(double rtol, double top_displacement, const EarlyStop* early = nullptr);
+  SolveReport solve_to(double rtol, double top_displacement);
   void note_ruptures(std::int64_t ruptures);
 
  private:

@@ -79,12 +79,10 @@ class Relaxation {
   /// A relaxation solve after a batch; with options.decision_safety > 0 it
   /// may end as soon as the field decides the next batch, or (with
   /// options.decided_closing) that nothing more breaks (CriticalBonds::
-  /// decide, decision_stands).  With `near_ties`, the re-solve of a field
-  /// with bonds in doubt: to options.tie_rtol, and it may end as soon as
-  /// each bond in doubt is decided by its error estimate.  Collective.
-  SolveReport solve_for_decision(double top_displacement, bool near_ties = false);
+  /// decide, decision_stands).  Collective.
+  SolveReport solve_for_decision(double top_displacement);
   /// The batch that breaks now: on an equilibrium, its critical bonds, those
-  /// in doubt (CriticalBonds::in_doubt) decided on a re-solve towards
+  /// in doubt (CriticalBonds::in_doubt) decided on a re-solve to
   /// options.tie_rtol first; on a decided field, the bonds its certificate
   /// decides, after a decided solve where it decides nothing.  Collective.
   std::vector<Rupture> next_batch(double top_displacement);
