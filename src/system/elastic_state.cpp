@@ -47,13 +47,18 @@ void for_each_bond_stretch(const DistributedLattice& l, Vec u_ghosted, F&& f) {
   LEM_PETSC(VecGhostRestoreLocalForm(u_ghosted, &local));
 }
 
+// An owned node of the loaded top face.
+bool owned_top(const DistributedLattice& l, int node) {
+  return node < l.owned && (l.dof_flags[node] & kLoadedTop);
+}
+
 // A bond's share of the reaction on the top face (the load on a top node
 // balances the pull of its bonds: +n on the first end, -n on the second).
 double top_load_share(const DistributedLattice& l, int b, const double* n, double tension) {
   const auto [p, q] = l.bond_ends[b];
   double share = 0;
-  if (p < l.owned && (l.dof_flags[p] & kLoadedTop)) share -= tension * n[2];
-  if (q < l.owned && (l.dof_flags[q] & kLoadedTop)) share += tension * n[2];
+  if (owned_top(l, p)) share -= tension * n[2];
+  if (owned_top(l, q)) share += tension * n[2];
   return share;
 }
 
@@ -80,9 +85,7 @@ double ElasticSystem::stress_of(const std::vector<double>& tension) const {
   double local = 0, total = 0;
   for (int b = 0; b < l.local_bonds(); ++b) {
     const auto [p, q] = l.bond_ends[b];
-    if (!((p < l.owned && (l.dof_flags[p] & kLoadedTop)) ||
-          (q < l.owned && (l.dof_flags[q] & kLoadedTop))))
-      continue;  // the direction only where it counts
+    if (!owned_top(l, p) && !owned_top(l, q)) continue;  // the direction only where it counts
     double n[3];
     bond_direction(l, b, n);
     local += top_load_share(l, b, n, tension[b]);
