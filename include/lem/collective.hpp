@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <climits>
 #include <cstdint>
+#include <stdexcept>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -52,6 +53,34 @@ inline void receive_bytes(MPI_Comm comm, void* data, std::uint64_t n, int from, 
   });
 }
 
+/// While one is alive, an allgather or a vector broadcast of more than
+/// `bytes` is a logic error: the check that a run moves only O(events)
+/// through whole-communicator collectives, never a per-node or per-bond
+/// array (the test hook LEM_COLLECTIVE_LIMIT, docs/testing.md).
+class CollectiveByteLimit {
+ public:
+  explicit CollectiveByteLimit(std::uint64_t bytes) : before_(current()) { current() = bytes; }
+  ~CollectiveByteLimit() { current() = before_; }
+  CollectiveByteLimit(const CollectiveByteLimit&) = delete;
+  CollectiveByteLimit& operator=(const CollectiveByteLimit&) = delete;
+
+  /// The limit in force (0: none).
+  static std::uint64_t& current() {
+    static std::uint64_t bytes = 0;
+    return bytes;
+  }
+  /// Every rank sees the same total, so every rank throws together.
+  static void check(std::uint64_t total, const char* what) {
+    if (current() != 0 && total > current())
+      throw std::logic_error(std::string(what) + " of " + std::to_string(total) +
+                             " bytes, above the limit of " + std::to_string(current()) +
+                             " bytes set by LEM_COLLECTIVE_LIMIT");
+  }
+
+ private:
+  std::uint64_t before_;
+};
+
 /// Every rank's vector, concatenated in rank order, on every rank.
 /// (`gatherv_bytes`: the largest total sent with one MPI_Allgatherv, whose
 /// displacements are int; tests lower it.)
@@ -65,6 +94,7 @@ std::vector<T> allgather(MPI_Comm comm, const std::vector<T>& mine,
   std::vector<std::uint64_t> counts(ranks), offsets(ranks + 1, 0);
   MPI_Allgather(&bytes, 1, MPI_UINT64_T, counts.data(), 1, MPI_UINT64_T, comm);
   for (int r = 0; r < ranks; ++r) offsets[r + 1] = offsets[r] + counts[r];
+  CollectiveByteLimit::check(offsets[ranks], "an allgather");
   std::vector<T> all(offsets[ranks] / sizeof(T));
   if (offsets[ranks] <= gatherv_bytes) {
     const std::vector<int> n(counts.begin(), counts.end()), at(offsets.begin(), offsets.end());
@@ -88,6 +118,7 @@ void broadcast(MPI_Comm comm, std::vector<T>& values, int root = 0,
   static_assert(std::is_trivially_copyable_v<T>);
   std::uint64_t n = values.size();
   MPI_Bcast(&n, 1, MPI_UINT64_T, root, comm);
+  CollectiveByteLimit::check(n * sizeof(T), "a broadcast");
   values.resize(n);
   broadcast_bytes(comm, values.data(), n * sizeof(T), root, piece_bytes);
 }

@@ -5,13 +5,13 @@
 #include "lem/driver.hpp"
 #include "lem/error.hpp"
 #include "lem/files.hpp"
-#include "lem/hdf5_writer.hpp"
 #include "lem/write_watch.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <functional>
 #include <sstream>
 #include <unistd.h>
 
@@ -19,9 +19,9 @@ namespace lem {
 
 namespace {
 
-// Version 3: the check field of a decided field follows the displacement
-// (version 2 had none, version 1 another state layout).
-constexpr char kCheckpointMagic[8] = {'L', 'E', 'M', 'C', 'K', 'P', 'T', '3'};
+// Version 4: written collectively by id (version 3 went through rank 0 whole;
+// version 2 had no check field, version 1 another state layout).
+constexpr char kCheckpointMagic[8] = {'L', 'E', 'M', 'C', 'K', 'P', 'T', '4'};
 
 void put(ByteWriter& w, const DamageHistory& h) {
   w.vec(h.bond_events), w.vec(h.bond_batches), w.vec(h.node_events), w.vec(h.node_batches);
@@ -33,27 +33,45 @@ void get(ByteReader& r, DamageHistory& h) {
   r.vec(h.build_batches);
 }
 
-}  // namespace
+// The layout: the head (magic, its length, the state, the fingerprint, the
+// damage history, the value count of each field, an FNV-1a checksum of all
+// that), then the fields by node id (3 doubles per node: the displacement,
+// then the check field if any), then an order-free checksum of the field
+// values (each rank sums the terms of its own nodes).
+struct Head {
+  std::uint64_t bytes = 0;             // where the fields start
+  std::uint64_t displacement_values = 0, check_values = 0;
+  std::uint64_t field_checksum = 0;    // the last 8 bytes of the file
+  std::uint64_t file_bytes() const { return bytes + 8 * (displacement_values + check_values) + 8; }
+};
 
-void write_checkpoint_file(const std::string& path, const Checkpoint& c) {
-  ByteWriter w;
-  w.raw(kCheckpointMagic, sizeof(kCheckpointMagic));
-  w.pod(static_cast<std::uint64_t>(sizeof(FractureState)));
-  w.pod(c.state);
-  w.str(c.fingerprint);
-  put(w, c.damage);
-  w.vec(c.displacement);
-  w.vec(c.check_displacement);
-  w.pod(fnv1a(w.bytes.data(), w.bytes.size()));
-  write_text_file_atomically(path, std::string(w.bytes.begin(), w.bytes.end()));
+std::uint64_t value_term(std::uint64_t index, double value) {
+  std::uint64_t bits = 0;
+  std::memcpy(&bits, &value, 8);
+  return mix64(mix64(index) ^ bits);
 }
 
-namespace {
+std::vector<char> head_bytes(const Checkpoint& c, std::uint64_t displacement_values,
+                             std::uint64_t check_values) {
+  ByteWriter body;
+  body.pod(static_cast<std::uint64_t>(sizeof(FractureState)));
+  body.pod(c.state);
+  body.str(c.fingerprint);
+  put(body, c.damage);
+  body.pod(displacement_values);
+  body.pod(check_values);
+  ByteWriter w;
+  w.raw(kCheckpointMagic, sizeof(kCheckpointMagic));
+  w.pod(static_cast<std::uint64_t>(body.bytes.size()));
+  w.raw(body.bytes.data(), body.bytes.size());
+  w.pod(fnv1a(w.bytes.data(), w.bytes.size()));
+  return w.bytes;
+}
 
 // Beyond the checksum, which a crafted file passes: sizes and ids must fit
 // the run the fingerprint describes (the fingerprint itself is compared
 // with this run's by CheckpointStore::load; bond ids by the ledger's replay).
-void check_checkpoint_values(const Checkpoint& c, const std::string& bad) {
+void check_head_values(const Checkpoint& c, const Head& head, const std::string& bad) {
   const auto refuse = [&](const std::string& what) {
     throw InputError(bad + what + "); remove it or pass -checkpoint_resume false");
   };
@@ -62,17 +80,12 @@ void check_checkpoint_values(const Checkpoint& c, const std::string& bad) {
   for (std::string line; std::getline(lines, line);)
     if (line.rfind("nodes=", 0) == 0) std::istringstream(line.substr(6)) >> nodes;
   if (nodes < 0) refuse("no node count in its fingerprint");
-  if (c.displacement.size() != 3 * static_cast<std::uint64_t>(nodes))
-    refuse(std::to_string(c.displacement.size()) + " displacement values for " +
+  if (head.displacement_values != 3 * static_cast<std::uint64_t>(nodes))
+    refuse(std::to_string(head.displacement_values) + " displacement values for " +
            std::to_string(nodes) + " nodes");
-  if (!c.check_displacement.empty() && c.check_displacement.size() != c.displacement.size())
-    refuse(std::to_string(c.check_displacement.size()) + " check field values for " +
+  if (head.check_values != 0 && head.check_values != head.displacement_values)
+    refuse(std::to_string(head.check_values) + " check field values for " +
            std::to_string(nodes) + " nodes");
-  for (const auto* field : {&c.displacement, &c.check_displacement})
-    for (std::size_t i = 0; i < field->size(); ++i)
-      if (!std::isfinite((*field)[i]))
-        refuse(std::string(field == &c.displacement ? "displacement " : "check field value ") +
-               std::to_string(i) + " is not finite");
   const FractureState& s = c.state;
   const FractureTally& t = s.tally;
   for (const std::int64_t count : {t.steps, t.visited_steps, t.solves, t.iterations,
@@ -106,39 +119,64 @@ void check_checkpoint_values(const Checkpoint& c, const std::string& bad) {
   if (twice != bonds.end()) refuse("bond " + std::to_string(*twice) + " is broken twice");
 }
 
-}  // namespace
-
-Checkpoint read_checkpoint_file(const std::string& path) {
+// Rank 0: the head of the file (magic to head checksum) and its trailing
+// field checksum, checked against the file's size.
+std::vector<char> read_head(const std::string& path, const std::string& bad, Head& head) {
   std::FILE* f = std::fopen(path.c_str(), "rb");
   if (!f) throw InputError("cannot open the checkpoint '" + path + "'");
-  std::vector<char> bytes;
-  char buffer[1 << 16];
-  for (std::size_t n; (n = std::fread(buffer, 1, sizeof(buffer), f)) > 0;)
-    bytes.insert(bytes.end(), buffer, buffer + n);
-  std::fclose(f);
-  const std::string bad = "the checkpoint '" + path + "' is not a valid lem checkpoint (";
-  if (bytes.size() < sizeof(kCheckpointMagic) + 16 ||
-      std::memcmp(bytes.data(), kCheckpointMagic, sizeof(kCheckpointMagic)) != 0)
+  const auto read_at = [&](std::uint64_t offset, void* to, std::size_t n) {
+    return std::fseek(f, static_cast<long>(offset), SEEK_SET) == 0 &&
+           std::fread(to, 1, n, f) == n;
+  };
+  std::vector<char> bytes(sizeof(kCheckpointMagic) + 8);
+  std::uint64_t body = 0;
+  bool ok = read_at(0, bytes.data(), bytes.size()) &&
+            std::memcmp(bytes.data(), kCheckpointMagic, sizeof(kCheckpointMagic)) == 0;
+  if (ok) std::memcpy(&body, bytes.data() + sizeof(kCheckpointMagic), 8);
+  std::fseek(f, 0, SEEK_END);
+  const auto size = static_cast<std::uint64_t>(std::ftell(f));
+  if (!ok || body > size) {
+    std::fclose(f);
     throw InputError(bad + "wrong header or another version of the code); remove it or pass "
                      "-checkpoint_resume false");
+  }
+  bytes.resize(bytes.size() + body + 8);
+  ok = read_at(0, bytes.data(), bytes.size());
   std::uint64_t stored = 0;
-  std::memcpy(&stored, bytes.data() + bytes.size() - 8, 8);
-  if (fnv1a(bytes.data(), bytes.size() - 8) != stored)
+  if (ok) std::memcpy(&stored, bytes.data() + bytes.size() - 8, 8);
+  if (!ok || fnv1a(bytes.data(), bytes.size() - 8) != stored) {
+    std::fclose(f);
     throw InputError(bad + "checksum mismatch: truncated or corrupt); remove it or pass "
                      "-checkpoint_resume false");
+  }
+  head.bytes = bytes.size();
+  std::memcpy(&head.displacement_values, bytes.data() + bytes.size() - 24, 8);
+  std::memcpy(&head.check_values, bytes.data() + bytes.size() - 16, 8);
+  const bool sized = head.displacement_values < size && head.check_values < size &&
+                     head.file_bytes() == size;
+  ok = sized && read_at(size - 8, &head.field_checksum, 8);
+  std::fclose(f);
+  if (!ok)
+    throw InputError(bad + std::to_string(size) + " bytes where its head announces " +
+                     std::to_string(head.file_bytes()) + ": truncated or corrupt); remove it "
+                     "or pass -checkpoint_resume false");
+  return bytes;
+}
+
+Checkpoint parse_head(const std::vector<char>& bytes, const std::string& bad) {
   Checkpoint c;
   try {
     ByteReader r(bytes, bytes.size() - 8);
     char magic[8];
     r.raw(magic, 8);
-    std::uint64_t state_size = 0;
+    std::uint64_t body = 0, state_size = 0, values = 0;
+    r.pod(body);
     r.pod(state_size);
     if (state_size != sizeof(FractureState)) throw std::runtime_error("version");
     r.pod(c.state);
     r.str(c.fingerprint);
     get(r, c.damage);
-    r.vec(c.displacement);
-    r.vec(c.check_displacement);
+    r.pod(values), r.pod(values);
     const DamageHistory& h = c.damage;
     if (!r.at_end() || h.bond_events.size() != h.bond_batches.size() ||
         h.node_events.size() != h.node_batches.size())
@@ -146,7 +184,241 @@ Checkpoint read_checkpoint_file(const std::string& path) {
   } catch (const std::runtime_error& e) {
     throw InputError(bad + "written by another version of the code: " + e.what() + ")");
   }
-  check_checkpoint_values(c, bad);
+  return c;
+}
+
+// This rank's nodes in id order, as an MPI-IO file view: 3 doubles per node
+// at byte 24 * id of a field.
+class NodeRows {
+ public:
+  explicit NodeRows(const std::vector<std::int64_t>& ids) : order_(ids.size()) {
+    for (std::size_t k = 0; k < ids.size(); ++k) order_[k] = k;
+    std::sort(order_.begin(), order_.end(), [&](auto a, auto b) { return ids[a] < ids[b]; });
+    std::vector<MPI_Aint> at(ids.size());
+    for (std::size_t k = 0; k < ids.size(); ++k) at[k] = 24 * static_cast<MPI_Aint>(ids[order_[k]]);
+    // A rank without nodes still takes part in the collective transfers.
+    if (ids.empty()) {
+      MPI_Type_dup(MPI_DOUBLE, &view_);
+    } else {
+      MPI_Type_create_hindexed_block(static_cast<int>(ids.size()), 3, at.data(), MPI_DOUBLE, &view_);
+    }
+    MPI_Type_commit(&view_);
+  }
+  ~NodeRows() { MPI_Type_free(&view_); }
+  NodeRows(const NodeRows&) = delete;
+  NodeRows& operator=(const NodeRows&) = delete;
+
+  MPI_Datatype view() const { return view_; }
+  /// Values in the caller's order -> in id order, and back.
+  std::vector<double> sorted(const std::vector<double>& values) const {
+    std::vector<double> out(values.size());
+    for (std::size_t k = 0; k < order_.size(); ++k)
+      for (int a = 0; a < 3; ++a) out[3 * k + a] = values[3 * order_[k] + a];
+    return out;
+  }
+  std::vector<double> unsorted(const std::vector<double>& values) const {
+    std::vector<double> out(values.size());
+    for (std::size_t k = 0; k < order_.size(); ++k)
+      for (int a = 0; a < 3; ++a) out[3 * order_[k] + a] = values[3 * k + a];
+    return out;
+  }
+
+ private:
+  std::vector<std::size_t> order_;
+  MPI_Datatype view_ = MPI_DATATYPE_NULL;
+};
+
+std::string mpi_error_text(int code) {
+  char text[MPI_MAX_ERROR_STRING];
+  int length = 0;
+  MPI_Error_string(code, text, &length);
+  return std::string(text, static_cast<std::size_t>(length));
+}
+
+// Why an MPI-IO call failed ("" if it moved all `expected` values of
+// `type`): on a full disk ompio reports a short write, not an error.
+std::string transfer_error(int code, const MPI_Status& status, MPI_Datatype type,
+                           std::size_t expected) {
+  if (code != MPI_SUCCESS) return mpi_error_text(code);
+  int count = 0;
+  MPI_Get_count(&status, type, &count);
+  if (count != static_cast<int>(expected))
+    return "a short transfer (" + std::to_string(count) + " of " + std::to_string(expected) +
+           " values)";
+  return {};
+}
+
+std::string call_error(int code) { return code == MPI_SUCCESS ? std::string() : mpi_error_text(code); }
+
+// Run one MPI-IO step on every rank (it returns why it failed, "" if it did
+// not); if it fails anywhere, every rank throws `Error(what: why)` of the
+// lowest failing rank.
+template <class Error>
+void io_step(MPI_Comm comm, const std::string& what, const std::function<std::string()>& step) {
+  run_collectively(comm, [&] {
+    const std::string why = step();
+    if (why.empty()) return;
+    const std::string message = what + ": " + why + WriteWatch::space_left();
+    WriteWatch::note_error(message);
+    throw Error(message);
+  });
+}
+
+// This rank's share of the field checksum: component a of node `id` is value
+// first_index + 3 * id + a of the file's fields.
+std::uint64_t field_terms(const std::vector<std::int64_t>& ids, const std::vector<double>& owned,
+                          std::uint64_t first_index) {
+  std::uint64_t sum = 0;
+  for (std::size_t n = 0; n < ids.size(); ++n)
+    for (int a = 0; a < 3; ++a)
+      sum += value_term(first_index + 3 * static_cast<std::uint64_t>(ids[n]) + a, owned[3 * n + a]);
+  return sum;
+}
+
+}  // namespace
+
+void write_checkpoint_file(MPI_Comm comm, const std::string& path, const Checkpoint& c,
+                           const std::vector<std::int64_t>& ids) {
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  std::int64_t mine = static_cast<std::int64_t>(ids.size()), nodes = 0;
+  MPI_Allreduce(&mine, &nodes, 1, MPI_INT64_T, MPI_SUM, comm);
+  const auto values = 3 * static_cast<std::uint64_t>(nodes);
+  int checked = !c.check_displacement.empty(), any_checked = 0;
+  MPI_Allreduce(&checked, &any_checked, 1, MPI_INT, MPI_MAX, comm);
+  const std::vector<char> head = head_bytes(c, values, any_checked ? values : 0);
+  std::uint64_t sum = field_terms(ids, c.displacement, 0), total = 0;
+  if (any_checked) sum += field_terms(ids, c.check_displacement, values);
+  MPI_Allreduce(&sum, &total, 1, MPI_UINT64_T, MPI_SUM, comm);
+
+  const std::string tmp = path + ".tmp";
+  const std::string failed = "cannot write file '" + path + "'";
+  // The other ranks wait for the slowest rank's write: a stop request
+  // reaches them there too (write_watch.hpp).
+  const WriteWatch watch(comm, path, tmp);
+  if (rank == 0) std::remove(tmp.c_str());  // a shorter file must not keep an old tail
+  MPI_File file = MPI_FILE_NULL;
+  io_step<IoError>(comm, failed + ": cannot create '" + tmp + "'", [&] {
+    return call_error(MPI_File_open(comm, tmp.c_str(), MPI_MODE_CREATE | MPI_MODE_WRONLY,
+                                    MPI_INFO_NULL, &file));
+  });
+  try {
+    io_step<IoError>(comm, failed + ": writing '" + tmp + "' failed", [&] {
+      if (rank != 0) return std::string();
+      const std::uint64_t end = head.size() + 8 * (values + (any_checked ? values : 0));
+      MPI_Status status;
+      std::string why = transfer_error(
+          MPI_File_write_at(file, 0, head.data(), static_cast<int>(head.size()), MPI_BYTE, &status),
+          status, MPI_BYTE, head.size());
+      if (why.empty())
+        why = transfer_error(MPI_File_write_at(file, static_cast<MPI_Offset>(end), &total, 8,
+                                               MPI_BYTE, &status),
+                             status, MPI_BYTE, 8);
+      return why;
+    });
+    const NodeRows rows(ids);
+    const auto write_field = [&](const std::vector<double>& owned, std::uint64_t field) {
+      const std::vector<double> sorted = rows.sorted(owned);
+      io_step<IoError>(comm, failed + ": writing '" + tmp + "' failed", [&] {
+        const auto start = static_cast<MPI_Offset>(head.size() + 8 * field * values);
+        const int code = MPI_File_set_view(file, start, MPI_DOUBLE, rows.view(), "native",
+                                           MPI_INFO_NULL);
+        if (code != MPI_SUCCESS) return mpi_error_text(code);
+        MPI_Status status;
+        return transfer_error(MPI_File_write_all(file, sorted.data(),
+                                                 static_cast<int>(sorted.size()), MPI_DOUBLE,
+                                                 &status),
+                              status, MPI_DOUBLE, sorted.size());
+      });
+    };
+    write_field(c.displacement, 0);
+    if (any_checked) write_field(c.check_displacement, 1);
+    io_step<IoError>(comm, failed + ": syncing '" + tmp + "' failed",
+                     [&] { return call_error(MPI_File_sync(file)); });
+    io_step<IoError>(comm, failed + ": closing '" + tmp + "' failed",
+                     [&] { return call_error(MPI_File_close(&file)); });
+  } catch (...) {
+    if (file != MPI_FILE_NULL) MPI_File_close(&file);
+    if (rank == 0) std::remove(tmp.c_str());
+    throw;
+  }
+  run_on_root(comm, [&] { move_into_place(tmp, path); });
+}
+
+Checkpoint read_checkpoint_file(MPI_Comm comm, const std::string& path,
+                                const std::vector<std::int64_t>& ids,
+                                const std::function<void(const Checkpoint&)>& accept) {
+  const std::string bad = "the checkpoint '" + path + "' is not a valid lem checkpoint (";
+  std::vector<char> bytes;
+  Head head;
+  run_on_root(comm, [&] {
+    bytes = read_head(path, bad, head);
+    const Checkpoint c = parse_head(bytes, bad);
+    check_head_values(c, head, bad);
+    if (accept) accept(c);
+  });
+  broadcast(comm, bytes);
+  broadcast_value(comm, head);
+  Checkpoint c = parse_head(bytes, bad);
+  const std::uint64_t values = head.displacement_values;
+  run_collectively(comm, [&] {
+    for (const std::int64_t id : ids)
+      if (id < 0 || 3 * static_cast<std::uint64_t>(id) >= values)
+        throw InputError(bad + "it has no node " + std::to_string(id) + ")");
+  });
+
+  const NodeRows rows(ids);
+  MPI_File file = MPI_FILE_NULL;
+  const std::string failed = "cannot read the checkpoint '" + path + "'";
+  io_step<InputError>(comm, failed, [&] {
+    return call_error(MPI_File_open(comm, path.c_str(), MPI_MODE_RDONLY, MPI_INFO_NULL, &file));
+  });
+  const auto read_field = [&](std::uint64_t field) {
+    std::vector<double> sorted(3 * ids.size());
+    io_step<InputError>(comm, failed, [&] {
+      const auto start = static_cast<MPI_Offset>(head.bytes + 8 * field * values);
+      const int code =
+          MPI_File_set_view(file, start, MPI_DOUBLE, rows.view(), "native", MPI_INFO_NULL);
+      if (code != MPI_SUCCESS) return mpi_error_text(code);
+      MPI_Status status;
+      return transfer_error(MPI_File_read_all(file, sorted.data(),
+                                              static_cast<int>(sorted.size()), MPI_DOUBLE,
+                                              &status),
+                            status, MPI_DOUBLE, sorted.size());
+    });
+    return rows.unsorted(sorted);
+  };
+  try {
+    c.displacement = read_field(0);
+    if (head.check_values != 0) c.check_displacement = read_field(1);
+  } catch (...) {
+    MPI_File_close(&file);
+    throw;
+  }
+  MPI_File_close(&file);
+
+  // The field checksum covers every node once the ranks' terms are summed.
+  std::uint64_t sum = field_terms(ids, c.displacement, 0), total = 0;
+  if (head.check_values != 0) sum += field_terms(ids, c.check_displacement, values);
+  MPI_Allreduce(&sum, &total, 1, MPI_UINT64_T, MPI_SUM, comm);
+  if (total != head.field_checksum)
+    throw InputError(bad + "checksum mismatch: corrupt); remove it or pass "
+                     "-checkpoint_resume false");
+  // The lowest non-finite value of each field, by its index in the file.
+  std::uint64_t lowest[2] = {UINT64_MAX, UINT64_MAX}, global[2];
+  for (std::size_t n = 0; n < ids.size(); ++n)
+    for (int a = 0; a < 3; ++a) {
+      const std::uint64_t index = 3 * static_cast<std::uint64_t>(ids[n]) + a;
+      if (!std::isfinite(c.displacement[3 * n + a])) lowest[0] = std::min(lowest[0], index);
+      if (!c.check_displacement.empty() && !std::isfinite(c.check_displacement[3 * n + a]))
+        lowest[1] = std::min(lowest[1], index);
+    }
+  MPI_Allreduce(lowest, global, 2, MPI_UINT64_T, MPI_MIN, comm);
+  for (int field = 0; field < 2; ++field)
+    if (global[field] != UINT64_MAX)
+      throw InputError(bad + (field == 0 ? "displacement " : "check field value ") +
+                       std::to_string(global[field]) + " is not finite); remove it or pass "
+                       "-checkpoint_resume false");
   return c;
 }
 
@@ -225,33 +497,26 @@ bool CheckpointStore::exists() const {
 }
 
 Checkpoint CheckpointStore::load() const {
-  Checkpoint c;
+  const DistributedLattice& l = lattice_;
   int other_ranks = 0;  // rank count of a checkpoint written by another one
-  run_on_root(lattice_.comm, [&] {
-    c = read_checkpoint_file(path_);
-    // Everything in the checkpoint is by lattice id, so another partition
-    // can take it over: the rank count may differ.
-    const std::string differs = fingerprint_differences(c.fingerprint, fingerprint_, other_ranks);
+  // Everything in the checkpoint is by lattice id, so another partition can
+  // take it over: the rank count may differ.
+  Checkpoint c = read_checkpoint_file(l.comm, path_, owned_ids(), [&](const Checkpoint& theirs) {
+    const std::string differs =
+        fingerprint_differences(theirs.fingerprint, fingerprint_, other_ranks);
     if (!differs.empty())
       throw InputError("the checkpoint '" + path_ + "' belongs to a different run "
                        "(sample or options):" + differs + "\nresume with the same command, or "
                        "pass -checkpoint_resume false to start over");
   });
-  MPI_Bcast(&other_ranks, 1, MPI_INT, 0, lattice_.comm);
+  MPI_Bcast(&other_ranks, 1, MPI_INT, 0, l.comm);
   if (other_ranks > 0) {
     int ranks = 1;
-    MPI_Comm_size(lattice_.comm, &ranks);
+    MPI_Comm_size(l.comm, &ranks);
     say("resuming a checkpoint written on %d ranks on %d: the preconditioner differs, so the "
         "rest of the run agrees with an uninterrupted one to the solver tolerance, not bit for "
         "bit\n", other_ranks, ranks);
   }
-  broadcast_value(lattice_.comm, c.state);
-  DamageHistory& h = c.damage;
-  for (auto* v : {&h.bond_events, &h.bond_batches, &h.node_events, &h.node_batches,
-                  &h.build_batches})
-    broadcast(lattice_.comm, *v);
-  broadcast(lattice_.comm, c.displacement);
-  broadcast(lattice_.comm, c.check_displacement);
   return c;
 }
 
@@ -261,29 +526,17 @@ void CheckpointStore::hold(const FractureState& state, const DamageMark& damage,
 }
 
 void CheckpointStore::save(const DamageLedger& ledger) const {
-  // Displacements by lattice node id.
-  const DistributedLattice& l = lattice_;
-  std::vector<std::int64_t> ids(l.node_id.begin(), l.node_id.begin() + l.owned);
-  const auto all_ids = allgather(l.comm, ids);
-  const auto all_u = allgather(l.comm, held_.u);
-  const auto all_check = allgather(l.comm, held_.check);  // empty on every rank, or full
-  // The other ranks wait for rank 0's write: a stop request reaches them
-  // there too (write_watch.hpp).
-  const WriteWatch watch(l.comm, path_, path_ + ".tmp");
-  run_on_root(l.comm, [&] {
-    Checkpoint c;
-    c.state = held_.state;
-    c.fingerprint = fingerprint_;
-    c.damage = ledger.prefix(held_.damage);
-    const auto by_id = [&](const std::vector<double>& owned, std::vector<double>& field) {
-      field.assign(3 * static_cast<std::size_t>(l.global_nodes), 0.0);
-      for (std::size_t i = 0; i < all_ids.size(); ++i)
-        for (int a = 0; a < 3; ++a) field[3 * all_ids[i] + a] = owned[3 * i + a];
-    };
-    by_id(all_u, c.displacement);
-    if (!all_check.empty()) by_id(all_check, c.check_displacement);
-    write_checkpoint_file(path_, c);
-  });
+  Checkpoint c;
+  c.state = held_.state;
+  c.fingerprint = fingerprint_;
+  c.damage = ledger.prefix(held_.damage);
+  c.displacement = held_.u;
+  c.check_displacement = held_.check;
+  write_checkpoint_file(lattice_.comm, path_, c, owned_ids());
+}
+
+std::vector<std::int64_t> CheckpointStore::owned_ids() const {
+  return {lattice_.node_id.begin(), lattice_.node_id.begin() + lattice_.owned};
 }
 
 std::string checkpoint_path(const std::string& output_dir) {

@@ -1,5 +1,6 @@
 #include "lem/protocol/damage_ledger.hpp"
 
+#include "lem/collective.hpp"
 #include "lem/error.hpp"
 
 #include <algorithm>
@@ -75,8 +76,10 @@ void DamageLedger::replay(DamageHistory h, std::int64_t batches) {
     if (it != local_bonds_.end())
       for (int b : it->second) held[k] += lattice_.bond_reported[b] ? 1 : 0;
   }
-  MPI_Allreduce(held.data(), total.data(), static_cast<int>(held.size()), MPI_INT, MPI_SUM,
-                lattice_.comm);
+  // MPI counts are int: a history of more than 2^31 events goes in pieces.
+  in_pieces(held.size(), kMpiPieceBytes / sizeof(int), [&](std::uint64_t at, int count) {
+    MPI_Allreduce(held.data() + at, total.data() + at, count, MPI_INT, MPI_SUM, lattice_.comm);
+  });
   const auto foreign = std::find_if(total.begin(), total.end(), [](int n) { return n != 1; });
   if (foreign != total.end()) {
     const auto k = static_cast<std::size_t>(foreign - total.begin());

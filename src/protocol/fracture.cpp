@@ -5,6 +5,7 @@
 // cycles it may stop on a signal, saving the equilibrium before the step.
 #include "lem/fracture.hpp"
 
+#include "lem/collective.hpp"
 #include "lem/driver.hpp"
 #include "lem/error.hpp"
 #include "lem/log.hpp"
@@ -21,6 +22,7 @@
 #include "lem/stop.hpp"
 
 #include <cmath>
+#include <cstdlib>
 #include <memory>
 #include <stdexcept>
 
@@ -98,16 +100,7 @@ class Protocol {
 void Protocol::resume() {
   Checkpoint c = checkpoint_.load();
   ledger_.replay(std::move(c.damage), c.state.batches);
-  const auto owned_part = [&](const std::vector<double>& by_id) {
-    std::vector<double> owned;
-    if (by_id.empty()) return owned;  // no check field: an equilibrium
-    owned.resize(3 * static_cast<std::size_t>(l_.owned));
-    for (int n = 0; n < l_.owned; ++n)
-      for (int a = 0; a < 3; ++a) owned[3 * n + a] = by_id[3 * l_.node_id[n] + a];
-    return owned;
-  };
-  system_.set_state(owned_part(c.displacement), displacement_of(c.state.tally.steps),
-                    owned_part(c.check_displacement));
+  system_.set_state(c.displacement, displacement_of(c.state.tally.steps), c.check_displacement);
   // A rebuild asked for before the checkpoint (iteration growth, fallback).
   if (c.state.preconditioner.rebuild_pending) system_.rebuild_preconditioner();
   state_ = c.state;
@@ -338,6 +331,11 @@ FractureResult Protocol::run() {
 
 FractureResult run_fracture(DistributedLattice& lattice, ElasticSystem& system,
                             const FractureOptions& options, const Provenance& provenance) {
+  // Test hook: LEM_COLLECTIVE_LIMIT=<bytes> bounds every allgather and
+  // broadcast of the run (checkpoints and resumes included), so that a test
+  // shows none of them carries a per-node or per-bond array.
+  const char* limit = std::getenv("LEM_COLLECTIVE_LIMIT");
+  const CollectiveByteLimit bound(limit ? std::strtoull(limit, nullptr, 10) : 0);
   Protocol protocol(lattice, system, options, provenance);
   return protocol.run();
 }

@@ -135,6 +135,14 @@ DistributedLattice setup_tension_lattice(MPI_Comm comm,
     double t = MPI_Wtime();
     lattice = build(report.sample);
     report.seconds_build = MPI_Wtime() - t;
+    // PETSc numbers the three displacements of every node with PetscInt.
+    const auto dofs = 3 * static_cast<std::uint64_t>(lattice.node_count());
+    if (dofs > static_cast<std::uint64_t>(PETSC_MAX_INT))
+      throw InputError("the lattice has " + std::to_string(lattice.node_count()) + " nodes: " +
+                       std::to_string(dofs) + " displacements, more than this PETSc's " +
+                       std::to_string(8 * sizeof(PetscInt)) + "-bit indices can number (" +
+                       std::to_string(PETSC_MAX_INT) + "); build against a PETSc configured "
+                       "with 64-bit indices");
     t = MPI_Wtime();
     faces = face_flags(lattice);
     constraints = make_tension_constraints(lattice, faces);

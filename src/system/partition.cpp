@@ -5,6 +5,7 @@
 #include <metis.h>
 
 #include <algorithm>
+#include <limits>
 #include <numeric>
 #include <string>
 
@@ -43,6 +44,13 @@ Partition partition_lattice(const Lattice& lattice, const std::vector<char>& bon
   auto active = [&](std::size_t b) { return bond_active.empty() || bond_active[b]; };
 
   if (parts > 1) {
+    std::uint64_t edges = 0;
+    for (std::size_t b = 0; b < lattice.bond_count(); ++b) edges += active(b) ? 2 : 0;
+    if (edges > static_cast<std::uint64_t>(std::numeric_limits<idx_t>::max()))
+      throw InputError("the lattice has " + std::to_string(edges / 2) + " bonds in the system: "
+                       "more than the " + std::to_string(std::numeric_limits<idx_t>::max() / 2) +
+                       " that METIS's " + std::to_string(8 * sizeof(idx_t)) + "-bit indices "
+                       "can partition as one graph");
     // CSR adjacency of the active-bond graph.
     std::vector<idx_t> xadj(nodes + 1, 0);
     for (std::size_t b = 0; b < lattice.bond_count(); ++b)

@@ -22,6 +22,12 @@
 #   most_critical   the other break rule: one bond per cycle, rank-independent
 #   solver_failure  a solve that fails for good writes the last equilibrium
 #                   as a checkpoint and exits 2; the rerun resumes from it
+#   no_whole_gathers a 60 000-bond lattice to 1.2 times its peak strain, every
+#                   allgather and broadcast of the run bounded to 4 bytes per
+#                   node (LEM_COLLECTIVE_LIMIT): checkpoints written on 1 rank
+#                   and resumed on 2 under that bound break the bonds of an
+#                   uninterrupted 2-rank run; a bound of 1 kB stops the run
+#                   naming the collective
 #   (with LEM_CASE_ARGS set, every run gets those options too)
 #   ranks_mini      the main job (jobs/main.opts, mini sample, calibration
 #                   included) to complete failure on 1 and 2 ranks: the whole
@@ -194,6 +200,32 @@ solver_failure)
     fail "resumed run broke $(summary "$work/cut" broken) bonds, the reference $(summary "$work/whole" broken)"
   diff <(sequence "$work/whole") <(sequence "$work/cut") > /dev/null || fail "rupture sequences differ"
   echo "ok: failed solve left a checkpoint; the resumed run breaks the same $(summary "$work/cut" broken) bonds in the same order"
+  ;;
+no_whole_gathers)
+  # 8 523 nodes: 34 092 bytes is 4 per node, less than a gather of their ids
+  # (8 bytes each) or displacements (24).  The largest batch of ruptures of
+  # this run (64 bytes each) moves between 2 000 and 4 000 bytes (measured
+  # 2026-11-27: a bound of 4 000 passes, 2 000 stops the run).
+  # shellcheck disable=SC2206
+  case_args=(-lattice_bonds 60000 -lattice_seed 3 -strength_disorder uniform
+             -fracture_max_strain_ratio 1.2 -output_fields false -checkpoint_steps 4
+             -checkpoint_seconds 0 ${LEM_CASE_ARGS:-})
+  export LEM_COLLECTIVE_LIMIT=34092
+  run 2 "$work/whole" || fail "uninterrupted run: $(tail -3 "$work/whole/log")"
+  LEM_FAULT_SOLVE_FAIL=150 run 1 "$work/cut"
+  status=$?
+  [ "$status" -eq 2 ] && [ -s "$work/cut/checkpoint.bin" ] ||
+    fail "no checkpoint from the 1-rank run (exit $status): $(tail -3 "$work/cut/log")"
+  run 2 "$work/cut" || fail "resumed run on 2 ranks: $(tail -3 "$work/cut/log")"
+  grep -q "^resuming a checkpoint written on 1 ranks on 2" "$work/cut/log" ||
+    fail "no note of the other rank count: $(head -3 "$work/cut/log")"
+  diff <(sequence "$work/whole") <(sequence "$work/cut") > /dev/null ||
+    fail "the run resumed on 2 ranks breaks other bonds"
+  LEM_COLLECTIVE_LIMIT=1000 run 2 "$work/bound"
+  status=$?
+  [ "$status" -ne 0 ] && grep -q "bytes, above the limit of 1000 bytes set by LEM_COLLECTIVE_LIMIT" "$work/bound/log" ||
+    fail "a bound of 1000 bytes did not stop the run (exit $status): $(tail -2 "$work/bound/log")"
+  echo "ok: $(summary "$work/cut" broken) ruptures under a bound of 4 bytes per node, resumed from 1 rank on 2; 1000 bytes: $(grep -o 'an allgather of [0-9]* bytes' "$work/bound/log" | head -1)"
   ;;
 node_stress)
   root="$(cd "$(dirname "$0")/../.." && pwd)"

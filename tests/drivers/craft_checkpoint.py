@@ -1,27 +1,46 @@
-"""Rewrite a lem_fracture checkpoint with one value changed and a valid
-checksum, for the tests that a checkpoint is checked beyond its checksum.
+"""Rewrite a lem_fracture checkpoint with one value changed and valid
+checksums, for the tests that a checkpoint is checked beyond its checksums.
 
 Usage: craft_checkpoint.py SOURCE TARGET CASE      (--list: the cases)
 
-The layout (src/protocol/checkpoint.cpp): 8 magic bytes, the state (its
-size as u64, then its bytes), the fingerprint (u64 length, text), the
-damage history (bond events, bond batches, node events, node batches,
-builds: each u64 count then int64 values), the displacements (u64 count,
-doubles), the check field of a decided field (the same; count 0 at an
-equilibrium), and the 64-bit FNV-1a checksum of everything before it.
+The layout (src/protocol/checkpoint.cpp, version 4): the head -- 8 magic
+bytes, the length of the rest of the head as u64, the state (its size as
+u64, then its bytes), the fingerprint (u64 length, text), the damage
+history (bond events, bond batches, node events, node batches, builds: each
+u64 count then int64 values), the value counts of the displacement and of
+the check field (u64 each; 0 for no check field), the 64-bit FNV-1a
+checksum of all of it -- then the displacement and the check field by node
+id (doubles), then the order-free checksum of those values: the sum modulo
+2**64 of mix64(mix64(k) ^ bits) over value k of the two fields.
 """
 import argparse
 import struct
 import sys
 
 VECTORS = ("bond_events", "bond_batches", "node_events", "node_batches", "build_batches")
+MASK = 0xFFFFFFFFFFFFFFFF
 
 
 def fnv1a(data):
     h = 1469598103934665603
     for byte in data:
-        h = ((h ^ byte) * 1099511628211) & 0xFFFFFFFFFFFFFFFF
+        h = ((h ^ byte) * 1099511628211) & MASK
     return h
+
+
+def mix64(x):
+    x = (x + 0x9E3779B97F4A7C15) & MASK
+    x = ((x ^ (x >> 30)) * 0xBF58476D1CE4E5B9) & MASK
+    x = ((x ^ (x >> 27)) * 0x94D049BB133111EB) & MASK
+    return x ^ (x >> 31)
+
+
+def field_checksum(values):
+    total = 0
+    for k, v in enumerate(values):
+        bits = struct.unpack("<Q", struct.pack("<d", v))[0]
+        total = (total + mix64(mix64(k) ^ bits)) & MASK
+    return total
 
 
 def parse(data):
@@ -34,6 +53,8 @@ def parse(data):
         pos += 8
         return value
 
+    body = u64()
+    head_end = pos + body
     size = u64()
     c["state"] = data[pos:pos + size]
     pos += size
@@ -44,24 +65,29 @@ def parse(data):
         n = u64()
         c[name] = list(struct.unpack_from("<%dq" % n, data, pos))
         pos += 8 * n
-    for name in ("displacement", "check_displacement"):
-        n = u64()
+    counts = u64(), u64()
+    if pos != head_end or u64() != fnv1a(data[:head_end]):
+        raise SystemExit("not a checkpoint of this layout (or its head checksum is wrong)")
+    for name, n in zip(("displacement", "check_displacement"), counts):
         c[name] = list(struct.unpack_from("<%dd" % n, data, pos))
         pos += 8 * n
-    if pos + 8 != len(data) or struct.unpack_from("<Q", data, pos)[0] != fnv1a(data[:pos]):
-        raise SystemExit("not a checkpoint of this layout (or its checksum is wrong)")
+    if pos + 8 != len(data) or u64() != field_checksum(c["displacement"] +
+                                                       c["check_displacement"]):
+        raise SystemExit("not a checkpoint of this layout (or its field checksum is wrong)")
     return c
 
 
 def build(c):
-    out = bytearray(c["magic"])
-    out += struct.pack("<Q", len(c["state"])) + c["state"]
-    out += struct.pack("<Q", len(c["fingerprint"])) + c["fingerprint"]
+    body = struct.pack("<Q", len(c["state"])) + c["state"]
+    body += struct.pack("<Q", len(c["fingerprint"])) + c["fingerprint"]
     for name in VECTORS:
-        out += struct.pack("<Q%dq" % len(c[name]), len(c[name]), *c[name])
-    for name in ("displacement", "check_displacement"):
-        out += struct.pack("<Q%dd" % len(c[name]), len(c[name]), *c[name])
+        body += struct.pack("<Q%dq" % len(c[name]), len(c[name]), *c[name])
+    body += struct.pack("<QQ", len(c["displacement"]), len(c["check_displacement"]))
+    out = bytearray(c["magic"]) + struct.pack("<Q", len(body)) + body
     out += struct.pack("<Q", fnv1a(out))
+    for name in ("displacement", "check_displacement"):
+        out += struct.pack("<%dd" % len(c[name]), *c[name])
+    out += struct.pack("<Q", field_checksum(c["displacement"] + c["check_displacement"]))
     return bytes(out)
 
 

@@ -7,6 +7,8 @@
 #include "lem/log.hpp"
 #include "lem/setup.hpp"
 
+#include "../world.hpp"
+
 #include <gtest/gtest.h>
 
 #include <stdexcept>
@@ -15,18 +17,6 @@
 using namespace lem;
 
 namespace {
-
-int rank() {
-  int r = 0;
-  MPI_Comm_rank(PETSC_COMM_WORLD, &r);
-  return r;
-}
-
-int ranks() {
-  int n = 1;
-  MPI_Comm_size(PETSC_COMM_WORLD, &n);
-  return n;
-}
 
 /// Runs `work` collectively and returns the exit status and message of the
 /// error every rank ends up with (0 and "" without one).
@@ -52,23 +42,23 @@ TEST(Agreement, NoErrorReturnsEverywhere) {
 }
 
 TEST(Agreement, ErrorOfTheLastRankReachesEveryRankWithItsType) {
-  const int last = ranks() - 1;
+  const int last = world_size() - 1;
   EXPECT_EQ(agreed([&] {
-              if (rank() == last) throw NumericalError("diverged on rank " + std::to_string(last));
+              if (world_rank() == last) throw NumericalError("diverged on rank " + std::to_string(last));
             }),
             std::make_pair(2, "diverged on rank " + std::to_string(last)));
   EXPECT_EQ(agreed([&] {
-              if (rank() == last) throw Interrupted("stopped");
+              if (world_rank() == last) throw Interrupted("stopped");
             }).first,
             4);
   EXPECT_THROW(run_collectively(PETSC_COMM_WORLD,
                                 [&] {
-                                  if (rank() == last) throw IoError("disk full");
+                                  if (world_rank() == last) throw IoError("disk full");
                                 }),
                IoError);
   EXPECT_THROW(run_collectively(PETSC_COMM_WORLD,
                                 [&] {
-                                  if (rank() == last) throw std::invalid_argument("bad slice");
+                                  if (world_rank() == last) throw std::invalid_argument("bad slice");
                                 }),
                std::invalid_argument);
 }
@@ -76,7 +66,7 @@ TEST(Agreement, ErrorOfTheLastRankReachesEveryRankWithItsType) {
 TEST(Agreement, LowestFailingRankWins) {
   // Rank 0 has bad input, the others something else: all report the input.
   EXPECT_EQ(agreed([] {
-              if (rank() == 0) throw InputError("-x = 3 is out of range");
+              if (world_rank() == 0) throw InputError("-x = 3 is out of range");
               throw std::runtime_error("other");
             }),
             std::make_pair(1, std::string("-x = 3 is out of range")));
@@ -85,13 +75,13 @@ TEST(Agreement, LowestFailingRankWins) {
 TEST(Agreement, FailingRankKeepsItsOwnExceptionOthersGetItsKind) {
   try {
     run_collectively(PETSC_COMM_WORLD, [] {
-      if (rank() == 0) throw OwnError("own");
+      if (world_rank() == 0) throw OwnError("own");
     });
     ADD_FAILURE() << "no exception";
   } catch (const OwnError& e) {
-    EXPECT_EQ(rank(), 0);
+    EXPECT_EQ(world_rank(), 0);
   } catch (const std::runtime_error& e) {
-    EXPECT_NE(rank(), 0);
+    EXPECT_NE(world_rank(), 0);
     EXPECT_STREQ(e.what(), "own");
     EXPECT_EQ(exit_status(e), 3);
   }
@@ -107,7 +97,7 @@ TEST(Agreement, RunOnRootKeepsANumericalFailure) {
               });
             }),
             std::make_pair(2, std::string("NaN in the serial stage")));
-  EXPECT_EQ(calls, rank() == 0 ? 1 : 0);
+  EXPECT_EQ(calls, world_rank() == 0 ? 1 : 0);
   EXPECT_THROW(run_on_root(PETSC_COMM_WORLD, [] { throw PetscFailure("KSPSolve", 77); }),
                PetscFailure);
 }
@@ -187,20 +177,20 @@ TEST(Raii, ElasticSystemConstructorThrowingLeaksNothing) {
 // values with pieces of 7 bytes and with one broadcast per rank instead of
 // one MPI_Allgatherv.
 TEST(Transfers, PiecesGiveTheSameValues) {
-  std::vector<double> mine(5 + 3 * rank());
-  for (std::size_t i = 0; i < mine.size(); ++i) mine[i] = 100.0 * rank() + static_cast<double>(i);
+  std::vector<double> mine(5 + 3 * world_rank());
+  for (std::size_t i = 0; i < mine.size(); ++i) mine[i] = 100.0 * world_rank() + static_cast<double>(i);
   EXPECT_EQ(allgather(PETSC_COMM_WORLD, mine, 0), allgather(PETSC_COMM_WORLD, mine));
   std::vector<double> values = mine;
-  broadcast(PETSC_COMM_WORLD, values, ranks() - 1, 7);
-  std::vector<double> expected(5 + 3 * (ranks() - 1));
+  broadcast(PETSC_COMM_WORLD, values, world_size() - 1, 7);
+  std::vector<double> expected(5 + 3 * (world_size() - 1));
   for (std::size_t i = 0; i < expected.size(); ++i)
-    expected[i] = 100.0 * (ranks() - 1) + static_cast<double>(i);
+    expected[i] = 100.0 * (world_size() - 1) + static_cast<double>(i);
   EXPECT_EQ(values, expected);
-  if (ranks() < 2) return;
+  if (world_size() < 2) return;
   std::vector<char> text(1000);
   for (std::size_t i = 0; i < text.size(); ++i) text[i] = static_cast<char>('a' + i % 26);
-  if (rank() == 0) send_bytes(PETSC_COMM_WORLD, text.data(), text.size(), 1, 5, 7);
-  if (rank() == 1) {
+  if (world_rank() == 0) send_bytes(PETSC_COMM_WORLD, text.data(), text.size(), 1, 5, 7);
+  if (world_rank() == 1) {
     std::vector<char> got(text.size());
     receive_bytes(PETSC_COMM_WORLD, got.data(), got.size(), 0, 5, 7);
     EXPECT_EQ(got, text);
@@ -214,12 +204,12 @@ TEST(Transfers, ScatterFailingOnRootEndsEveryRank) {
   TensionConstraints constraints;
   Partition partition;
   std::vector<std::uint8_t> faces;
-  if (rank() == 0) {
+  if (world_rank() == 0) {
     lattice = make_fcc_lattice({2, 2, 2}, 1.0, 1.0);
     faces = face_flags(lattice);
     constraints = make_tension_constraints(lattice, faces);
-    partition = partition_lattice(lattice, constraints.bond_active, ranks());
-    partition.parts = ranks() + 1;  // not this communicator's
+    partition = partition_lattice(lattice, constraints.bond_active, world_size());
+    partition.parts = world_size() + 1;  // not this communicator's
   }
   EXPECT_THROW(distribute_lattice(PETSC_COMM_WORLD, lattice, constraints, partition, faces),
                std::logic_error);

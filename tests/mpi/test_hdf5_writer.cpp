@@ -2,6 +2,8 @@
 // (slice sizes differ between ranks, and at 2 ranks rank 0 owns no bonds);
 // rank 0 then reads the file back with the serial HDF5 API and checks every
 // value, shape, attribute and the XDMF description.
+#include "../world.hpp"
+
 #include <gtest/gtest.h>
 #include <hdf5.h>
 #include <mpi.h>
@@ -29,18 +31,6 @@
 namespace {
 
 namespace fs = std::filesystem;
-
-int world_rank() {
-  int rank = 0;
-  MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
-  return rank;
-}
-
-int world_size() {
-  int size = 1;
-  MPI_Comm_size(PETSC_COMM_WORLD, &size);
-  return size;
-}
 
 std::string broadcast_from_root(std::string text) {
   int length = static_cast<int>(text.size());

@@ -10,6 +10,7 @@
 #include "lem/protocol/progress.hpp"
 
 #include <gtest/gtest.h>
+#include <petscsys.h>
 
 #include <cmath>
 #include <cstdio>
@@ -196,9 +197,12 @@ std::string temp_path(const char* name) {
       .string();
 }
 
+// The nodes of sample_checkpoint's fields, in the order of its values.
+const std::vector<std::int64_t> kIds = {2, 0, 3, 1};
+
 void expect_refused(const std::string& path, const char* why) {
   try {
-    read_checkpoint_file(path);
+    read_checkpoint_file(PETSC_COMM_SELF, path, kIds);
     ADD_FAILURE() << "accepted a bad checkpoint (" << why << ")";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
@@ -210,8 +214,8 @@ void expect_refused(const std::string& path, const char* why) {
 TEST(Checkpoint, FileRoundTripsAndRefusesDamage) {
   const std::string path = temp_path("roundtrip.bin");
   const Checkpoint c = sample_checkpoint();
-  write_checkpoint_file(path, c);
-  const Checkpoint r = read_checkpoint_file(path);
+  write_checkpoint_file(PETSC_COMM_SELF, path, c, kIds);
+  const Checkpoint r = read_checkpoint_file(PETSC_COMM_SELF, path, kIds);
   EXPECT_EQ(r.state.tally.steps, 1234);
   EXPECT_EQ(r.state.tally.broken, c.state.tally.broken);
   EXPECT_EQ(r.state.tally.peak_stress, 0.125);
@@ -230,9 +234,14 @@ TEST(Checkpoint, FileRoundTripsAndRefusesDamage) {
     f.put('\x5a');
   }
   expect_refused(path, "checksum mismatch");
-  write_checkpoint_file(path, c);
+  write_checkpoint_file(PETSC_COMM_SELF, path, c, kIds);
   std::filesystem::resize_file(path, size - 20);  // cut short
-  expect_refused(path, "checksum mismatch");
+  expect_refused(path, "truncated or corrupt");
+  // By id: another order of the same nodes reads the same values.
+  write_checkpoint_file(PETSC_COMM_SELF, path, c, kIds);
+  const Checkpoint sorted = read_checkpoint_file(PETSC_COMM_SELF, path, {0, 1, 2, 3});
+  EXPECT_EQ(std::vector<double>(sorted.displacement.begin(), sorted.displacement.begin() + 3),
+            std::vector<double>(c.displacement.begin() + 3, c.displacement.begin() + 6));
   {
     std::ofstream f(path, std::ios::binary | std::ios::trunc);
     f << "not a checkpoint at all, but long enough to have a header";

@@ -2,9 +2,12 @@
 //
 // A checkpoint holds the state at the last equilibrium (counters, the damage
 // history, displacements by lattice node id) and a fingerprint of the sample
-// and of the options that change the results.  The file is binary: a magic
-// header, the state as bytes (its size checked), the rest length-prefixed,
-// an FNV-1a checksum last; it is written whole or not at all.
+// and of the options that change the results.  The file is binary: a head
+// (a magic word, the state as bytes with its size, the rest length-prefixed,
+// an FNV-1a checksum), then the fields by node id, then an order-free
+// checksum of their values.  Every rank writes and reads the rows of its own
+// nodes (MPI-IO), so no rank ever holds the whole field, and another rank
+// count reads it by id; it is written whole or not at all.
 #pragma once
 
 #include "lem/distributed_lattice.hpp"
@@ -14,6 +17,8 @@
 
 #include <mpi.h>
 
+#include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -23,17 +28,27 @@ struct Checkpoint {
   FractureState state;
   std::string fingerprint;
   DamageHistory damage;
-  std::vector<double> displacement;  // 3 per lattice node id
-  // The check field of a decided field (ElasticSystem::mark_check), 3 per
-  // lattice node id; empty when the displacement is an equilibrium.
+  // This rank's nodes (the `ids` of the file functions), 3 values each.
+  std::vector<double> displacement;
+  // The check field of a decided field (ElasticSystem::mark_check), as the
+  // displacement; empty when the displacement is an equilibrium.
   std::vector<double> check_displacement;
 };
 
-/// Rank 0 only.  Throws InputError naming the file on failure.
-void write_checkpoint_file(const std::string& path, const Checkpoint& checkpoint);
-/// Rank 0 only.  Throws InputError naming the file when it is not a valid
+/// Collective: write `checkpoint` to `path` (through <path>.tmp).  Its fields
+/// hold the values of the nodes `ids` of this rank; the ids of all ranks are
+/// the lattice's 0 .. N-1, each once.  Rank 0's state, fingerprint and
+/// history are written.  Throws IoError naming the file on every rank.
+void write_checkpoint_file(MPI_Comm comm, const std::string& path, const Checkpoint& checkpoint,
+                           const std::vector<std::int64_t>& ids);
+/// Collective: read the checkpoint at `path`, each rank the fields of its
+/// nodes `ids`.  `accept`, if given, sees the state, fingerprint and history
+/// on rank 0 before any field is read, and may refuse them by throwing.
+/// Throws InputError naming the file on every rank when it is not a valid
 /// checkpoint of this version.
-Checkpoint read_checkpoint_file(const std::string& path);
+Checkpoint read_checkpoint_file(MPI_Comm comm, const std::string& path,
+                                const std::vector<std::int64_t>& ids,
+                                const std::function<void(const Checkpoint&)>& accept = {});
 
 /// The sample (ids, stiffnesses, thresholds, hashed order-free) and the
 /// options that change the results, one "key=value" per line.  Collective.
@@ -60,7 +75,7 @@ class CheckpointStore {
   CheckpointStore(const DistributedLattice& lattice, std::string path, std::string fingerprint);
 
   bool exists() const;
-  /// Read, check the fingerprint, share with every rank.  Throws InputError
+  /// Read, check the fingerprint; each rank gets its own nodes' fields.  Throws InputError
   /// naming what differs.  Says so when the rank count changed.
   Checkpoint load() const;
   /// Remember the state at this equilibrium (owned displacements).
@@ -72,6 +87,8 @@ class CheckpointStore {
   const std::string& path() const { return path_; }
 
  private:
+  std::vector<std::int64_t> owned_ids() const;
+
   const DistributedLattice& lattice_;
   std::string path_, fingerprint_;
   struct Held {

@@ -1,0 +1,104 @@
+// Moving items between ranks by key, for the stages that must not pass
+// through one rank (reading a sample, partitioning, checkpoints at scale):
+// each item goes to the rank a key names, in rounds that keep every MPI count
+// and displacement below 2^31 whatever the byte counts; and a directory that
+// says which rank owns an id without any rank holding every id.
+#pragma once
+
+#include "lem/collective.hpp"
+
+#include <mpi.h>
+
+#include <cstdint>
+#include <cstring>
+#include <type_traits>
+#include <vector>
+
+namespace lem {
+
+/// The bytes a rank may send in one round of all_to_all_bytes (all
+/// destinations together), and receive.
+inline constexpr std::uint64_t kRoundBytes = std::uint64_t(1) << 30;
+
+/// `send` holds the bytes for rank 0, then those for rank 1, ... (`counts[d]`
+/// for rank d).  Returns the bytes received, those from rank 0 first;
+/// `received[s]` gets how many came from rank s.  Collective.  The exchange
+/// goes in rounds of at most `round_bytes` per rank (tests lower it).
+std::vector<char> all_to_all_bytes(MPI_Comm comm, const std::vector<char>& send,
+                                   const std::vector<std::uint64_t>& counts,
+                                   std::vector<std::uint64_t>& received,
+                                   std::uint64_t round_bytes = kRoundBytes);
+
+/// Item k to rank `to[k]`.  Returns the items this rank received, ordered by
+/// source rank and, from one source, in the source's order; `from` (if given)
+/// gets each one's source rank.  Collective.
+template <class T>
+std::vector<T> route(MPI_Comm comm, const std::vector<T>& items, const std::vector<int>& to,
+                     std::vector<int>* from = nullptr, std::uint64_t round_bytes = kRoundBytes) {
+  static_assert(std::is_trivially_copyable_v<T>);
+  int ranks = 1;
+  MPI_Comm_size(comm, &ranks);
+  std::vector<std::uint64_t> counts(ranks, 0), at(ranks + 1, 0), received;
+  for (const int d : to) counts[d] += sizeof(T);
+  for (int d = 0; d < ranks; ++d) at[d + 1] = at[d] + counts[d];
+  std::vector<char> send(at[ranks]);
+  for (std::size_t k = 0; k < items.size(); ++k) {
+    std::memcpy(send.data() + at[to[k]], &items[k], sizeof(T));
+    at[to[k]] += sizeof(T);
+  }
+  const std::vector<char> bytes = all_to_all_bytes(comm, send, counts, received, round_bytes);
+  std::vector<T> out(bytes.size() / sizeof(T));
+  if (!out.empty()) std::memcpy(out.data(), bytes.data(), bytes.size());
+  if (from) {
+    from->clear();
+    for (int s = 0; s < ranks; ++s) from->insert(from->end(), received[s] / sizeof(T), s);
+  }
+  return out;
+}
+
+/// Answers to questions asked of other ranks: question k goes to rank
+/// `to[k]`, which answers it with `answer(question)`; returns the answers in
+/// the order of the questions.  Collective.
+template <class Answer, class Question, class F>
+std::vector<Answer> ask(MPI_Comm comm, const std::vector<Question>& questions,
+                        const std::vector<int>& to, F&& answer,
+                        std::uint64_t round_bytes = kRoundBytes) {
+  std::vector<int> from;
+  const std::vector<Question> asked = route(comm, questions, to, &from, round_bytes);
+  std::vector<Answer> answers;
+  answers.reserve(asked.size());
+  for (const Question& q : asked) answers.push_back(answer(q));
+  // Back to the askers: each receives its answers grouped by the rank that
+  // gave them, in the order it asked that rank.
+  const std::vector<Answer> back = route(comm, answers, from, nullptr, round_bytes);
+  int ranks = 1;
+  MPI_Comm_size(comm, &ranks);
+  std::vector<std::size_t> next(ranks + 1, 0);
+  for (const int d : to) ++next[d + 1];
+  for (int d = 0; d < ranks; ++d) next[d + 1] += next[d];
+  std::vector<Answer> out(questions.size());
+  for (std::size_t k = 0; k < questions.size(); ++k) out[k] = back[next[to[k]]++];
+  return out;
+}
+
+/// Which rank owns each id of [0, total).  Built from every rank's owned ids
+/// (each id owned once); the entry of an id is kept by rank
+/// home(id) = floor(id * ranks / total), so no rank holds more than its share.
+class OwnerDirectory {
+ public:
+  /// Collective.
+  OwnerDirectory(MPI_Comm comm, std::int64_t total, const std::vector<std::int64_t>& owned);
+  /// The owner rank of every id of `ids` (ids of [0, total), repeats
+  /// allowed).  Collective.
+  std::vector<int> owners(const std::vector<std::int64_t>& ids) const;
+  /// The rank that keeps the entry of `id`.
+  int home(std::int64_t id) const;
+
+ private:
+  MPI_Comm comm_;
+  int ranks_ = 1;
+  std::int64_t total_ = 0, first_ = 0;  // this rank keeps [first_, first_ + owner_.size())
+  std::vector<int> owner_;
+};
+
+}  // namespace lem

@@ -1,0 +1,98 @@
+#include "lem/redistribute.hpp"
+
+#include <algorithm>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+namespace lem {
+
+std::vector<char> all_to_all_bytes(MPI_Comm comm, const std::vector<char>& send,
+                                   const std::vector<std::uint64_t>& counts,
+                                   std::vector<std::uint64_t>& received,
+                                   std::uint64_t round_bytes) {
+  int ranks = 1;
+  MPI_Comm_size(comm, &ranks);
+  received.assign(ranks, 0);
+  MPI_Alltoall(counts.data(), 1, MPI_UINT64_T, received.data(), 1, MPI_UINT64_T, comm);
+  std::vector<std::uint64_t> send_at(ranks + 1, 0), receive_at(ranks + 1, 0);
+  for (int r = 0; r < ranks; ++r) {
+    send_at[r + 1] = send_at[r] + counts[r];
+    receive_at[r + 1] = receive_at[r] + received[r];
+  }
+  if (send_at[ranks] != send.size())
+    throw std::logic_error("all_to_all_bytes: " + std::to_string(send.size()) +
+                           " bytes to send, but the counts add up to " +
+                           std::to_string(send_at[ranks]));
+  std::vector<char> out(receive_at[ranks]);
+  // Each round moves at most `pair` bytes between any two ranks, so that a
+  // rank's total per round (its counts and displacements) stays an int.
+  const std::uint64_t pair = std::max<std::uint64_t>(
+      1, std::min<std::uint64_t>(round_bytes, INT_MAX) / static_cast<std::uint64_t>(ranks));
+  std::uint64_t largest = 0, rounds = 0;
+  for (int r = 0; r < ranks; ++r) largest = std::max({largest, counts[r], received[r]});
+  const std::uint64_t mine = (largest + pair - 1) / pair;
+  MPI_Allreduce(&mine, &rounds, 1, MPI_UINT64_T, MPI_MAX, comm);
+  std::vector<int> send_n(ranks), send_d(ranks), receive_n(ranks), receive_d(ranks);
+  std::vector<char> out_round, in_round;
+  for (std::uint64_t k = 0; k < rounds; ++k) {
+    const auto slice = [&](std::uint64_t total) {
+      const std::uint64_t start = std::min(total, k * pair);
+      return static_cast<int>(std::min(total - start, pair));
+    };
+    int send_total = 0, receive_total = 0;
+    for (int r = 0; r < ranks; ++r) {
+      send_n[r] = slice(counts[r]), send_d[r] = send_total, send_total += send_n[r];
+      receive_n[r] = slice(received[r]), receive_d[r] = receive_total,
+      receive_total += receive_n[r];
+    }
+    out_round.resize(static_cast<std::size_t>(send_total));
+    in_round.resize(static_cast<std::size_t>(receive_total));
+    for (int r = 0; r < ranks; ++r)
+      std::copy_n(send.data() + send_at[r] + k * pair, send_n[r], out_round.data() + send_d[r]);
+    MPI_Alltoallv(out_round.data(), send_n.data(), send_d.data(), MPI_BYTE, in_round.data(),
+                  receive_n.data(), receive_d.data(), MPI_BYTE, comm);
+    for (int r = 0; r < ranks; ++r)
+      std::copy_n(in_round.data() + receive_d[r], receive_n[r],
+                  out.data() + receive_at[r] + k * pair);
+  }
+  return out;
+}
+
+OwnerDirectory::OwnerDirectory(MPI_Comm comm, std::int64_t total,
+                               const std::vector<std::int64_t>& owned)
+    : comm_(comm), total_(total) {
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &ranks_);
+  if (total < 0 || total > std::numeric_limits<std::int64_t>::max() / ranks_)
+    throw std::logic_error("OwnerDirectory: " + std::to_string(total) + " ids on " +
+                           std::to_string(ranks_) + " ranks overflow 64 bits");
+  // The ids kept here: those whose home is this rank.
+  const auto begin_of = [&](int r) { return (total * r + ranks_ - 1) / ranks_; };
+  first_ = begin_of(rank);
+  owner_.assign(static_cast<std::size_t>(begin_of(rank + 1) - first_), -1);
+  std::vector<int> to(owned.size());
+  for (std::size_t k = 0; k < owned.size(); ++k) {
+    if (owned[k] < 0 || owned[k] >= total)
+      throw std::logic_error("OwnerDirectory: id " + std::to_string(owned[k]) +
+                             " outside [0, " + std::to_string(total) + ")");
+    to[k] = home(owned[k]);
+  }
+  std::vector<int> from;
+  const std::vector<std::int64_t> mine = route(comm, owned, to, &from);
+  for (std::size_t k = 0; k < mine.size(); ++k) owner_[mine[k] - first_] = from[k];
+}
+
+int OwnerDirectory::home(std::int64_t id) const {
+  // The largest r with begin(r) <= id, begin(r) = ceil(total * r / ranks).
+  return static_cast<int>(id * ranks_ / total_);  // id * ranks_ fits: checked at construction
+}
+
+std::vector<int> OwnerDirectory::owners(const std::vector<std::int64_t>& ids) const {
+  std::vector<int> to(ids.size());
+  for (std::size_t k = 0; k < ids.size(); ++k) to[k] = home(ids[k]);
+  return ask<int>(comm_, ids, to, [&](std::int64_t id) { return owner_[id - first_]; });
+}
+
+}  // namespace lem
