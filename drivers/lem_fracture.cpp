@@ -54,8 +54,7 @@ struct Case {
 Prepared prepare(MPI_Comm comm, const lem::SampleOptions& sample, double break_strain,
                  const lem::FractureOptions& options) {
   Prepared p;
-  p.lattice = lem::setup_tension_lattice(
-      comm, [&](lem::SampleInfo& info) { return lem::build_sample(sample, info); }, p.setup);
+  p.lattice = lem::setup_sample_lattice(comm, sample, p.setup);
   lem::DistributedLattice& lattice = p.lattice;
   // Stress unit: a sample file's bonds have k = E^phase a_s and f =
   // sigma^phase a_s^2, so its stresses are already in E^phase units; a

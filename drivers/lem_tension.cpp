@@ -34,8 +34,7 @@ int main(int argc, char** argv) {
     const auto provenance = lem::collect_provenance(comm, "lem_tension");
 
     lem::SetupReport setup;
-    auto lattice = lem::setup_tension_lattice(
-        comm, [&](lem::SampleInfo& info) { return lem::build_sample(sample, info); }, setup);
+    auto lattice = lem::setup_sample_lattice(comm, sample, setup);
     // Only once the sample is read and checked: bad input keeps older results.
     lem::prepare_output_dir(comm, dir, {"summary.json", "summary.csv", "fields.h5", "fields.xmf"});
     lem::say("lattice: %lld nodes, %lld bonds (%lld in the system), a = %.4g, L_n = %.4g, "

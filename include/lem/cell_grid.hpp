@@ -28,6 +28,8 @@ class CellGrid {
   }
 
   std::size_t cell_count() const { return static_cast<std::size_t>(n_[0]) * n_[1] * n_[2]; }
+  /// Cells along each axis.
+  const std::array<int, 3>& counts() const { return n_; }
 
   /// The cell holding `p`.
   std::size_t cell_of(const Point& p) const {
@@ -56,7 +58,7 @@ class CellGrid {
         for (int k = c0[2]; k <= c1[2]; ++k) visit(index(i, j, k));
   }
 
- private:
+  /// The cell holding `p`, as (i, j, k); its index is index(i, j, k).
   std::array<int, 3> coordinates(const Point& p) const {
     std::array<int, 3> c{};
     for (int a = 0; a < 3; ++a)
@@ -67,6 +69,8 @@ class CellGrid {
   std::size_t index(int i, int j, int k) const {
     return (static_cast<std::size_t>(i) * n_[1] + j) * n_[2] + k;
   }
+
+ private:
 
   Point lo_;
   std::array<int, 3> n_{1, 1, 1};

@@ -97,6 +97,11 @@ enum Face : std::uint8_t {
   kXmin = 1, kXmax = 2, kYmin = 4, kYmax = 8, kZmin = 16, kZmax = 32
 };
 std::vector<std::uint8_t> face_flags(const Lattice& lattice, double tol = 1e-9);
+/// The Face bits of one point.
+std::uint8_t faces_of(const Point& p, const Box& box, double tol = 1e-9);
+/// What halve_face_bonds keeps of a bond whose ends touch these faces: 1/2
+/// per face the two share.
+double face_share(std::uint8_t faces_i, std::uint8_t faces_j);
 
 /// Scale the stiffness and the breaking force of every bond lying in a box
 /// face by 1/2 per face it lies in (1/4 on an edge).  Such a bond has only
@@ -120,5 +125,9 @@ struct AffineModuli {
   double poisson_z = 0;  // -(S_xxzz + S_yyzz) / (2 S_zzzz)
 };
 AffineModuli affine_moduli(const Lattice& lattice);
+/// Its parts, for a lattice held in pieces: one bond's term of C (box volume
+/// `volume`), then the moduli from the summed C.
+void add_affine_bond(AffineModuli& m, const Point& p, const Point& q, double k, double volume);
+void finish_affine_moduli(AffineModuli& m);
 
 }  // namespace lem

@@ -23,6 +23,14 @@ struct Partition {
 Partition partition_lattice(const Lattice& lattice, const std::vector<char>& bond_active,
                             int parts, bool morton = true);
 
+/// Parts of a graph of spatial cells (vertex weights; CSR adjacency with
+/// edge weights, symmetric): METIS k-way with a fixed seed, so that every
+/// rank that partitions the same graph gets the same parts.
+std::vector<int> partition_cells(const std::vector<std::int64_t>& weights,
+                                 const std::vector<std::int64_t>& xadj,
+                                 const std::vector<std::int64_t>& adjncy,
+                                 const std::vector<std::int64_t>& adjwgt, int parts);
+
 /// 63-bit Morton code of a point of the box (21 bits per axis).
 std::uint64_t morton_code(const Point& p, const Box& box);
 

@@ -38,11 +38,17 @@ class PieceFinder {
 
   PieceReport find() const;
 
- private:
   /// Nodes with fewer active bonds than free degrees of freedom, removed
   /// repeatedly (as the set-up does): at equilibrium their bonds carry no
-  /// force, yet they leave zero-energy modes.  Pinned nodes included.
+  /// force, yet they leave zero-energy modes.  Pinned nodes included; per
+  /// local node (owned and ghost).
   std::vector<char> underconnected() const;
+  /// The piece of every local node: the smallest global index in it, over
+  /// the bonds with k > 0 between nodes that are not `excluded` (per local
+  /// node); -1 for excluded nodes.
+  std::vector<std::int64_t> labels(const std::vector<char>& excluded) const;
+
+ private:
   const DistributedLattice& lattice_;
   Vec labels_ = nullptr;  // one value per node, ghosted like the displacements
 };

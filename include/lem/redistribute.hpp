@@ -81,6 +81,18 @@ std::vector<Answer> ask(MPI_Comm comm, const std::vector<Question>& questions,
   return out;
 }
 
+/// Rows 0 .. total-1 dealt out in contiguous blocks, rank r the rows
+/// [begin(r), begin(r + 1)) with begin(r) = ceil(total r / ranks): how a
+/// file's rows are read, and where the directory keeps an id.
+struct RowBlocks {
+  std::int64_t total = 0;
+  int ranks = 1;
+  RowBlocks(std::int64_t total_rows, int rank_count);
+  std::int64_t begin(int r) const { return (total * r + ranks - 1) / ranks; }
+  /// The rank whose block holds `row` (0 <= row < total).
+  int rank_of(std::int64_t row) const { return static_cast<int>(row * ranks / total); }
+};
+
 /// Which rank owns each id of [0, total).  Built from every rank's owned ids
 /// (each id owned once); the entry of an id is kept by rank
 /// home(id) = floor(id * ranks / total), so no rank holds more than its share.
@@ -92,12 +104,12 @@ class OwnerDirectory {
   /// allowed).  Collective.
   std::vector<int> owners(const std::vector<std::int64_t>& ids) const;
   /// The rank that keeps the entry of `id`.
-  int home(std::int64_t id) const;
+  int home(std::int64_t id) const { return blocks_.rank_of(id); }
 
  private:
   MPI_Comm comm_;
-  int ranks_ = 1;
-  std::int64_t total_ = 0, first_ = 0;  // this rank keeps [first_, first_ + owner_.size())
+  RowBlocks blocks_;
+  std::int64_t first_ = 0;  // this rank keeps [first_, first_ + owner_.size())
   std::vector<int> owner_;
 };
 

@@ -26,7 +26,12 @@
 #include "lem/cemented_sample.hpp"
 #include "lem/provenance.hpp"
 
+#include <mpi.h>
+
+#include <array>
+#include <cstdint>
 #include <string>
+#include <vector>
 
 namespace lem {
 
@@ -52,5 +57,28 @@ struct SampleFile {
 /// indices or phase codes out of range).
 SampleFile read_sample_file(const std::string& path);
 CementedSample read_sample(const std::string& path);
+
+/// One rank's share of a sample file: a block of its node rows and a block
+/// of its bond rows (lem::RowBlocks over the ranks), and the rest whole.
+struct SampleBlock {
+  /// The attributes, particles, bridges and provenance; its lattice holds
+  /// only the box (no nodes, no bonds).
+  SampleFile description;
+  std::int64_t nodes = 0, bonds = 0;           // rows in the file
+  std::int64_t node_begin = 0, bond_begin = 0;  // file rows of this rank's first entries
+  std::vector<Point> coords;                    // per node row of the block
+  std::vector<double> volume;
+  std::vector<std::int32_t> particle;
+  std::vector<char> matrix;
+  std::vector<std::array<std::int64_t, 2>> ends;  // per bond row of the block
+  std::vector<std::array<Point, 2>> end_coords;     // the positions of those ends
+  std::vector<Phase> bond_phase;
+};
+
+/// Collective: every rank reads its blocks through parallel HDF5, with the
+/// checks of read_sample_file (the positions of its bonds' ends and the
+/// bonds repeated come from the ranks that read those rows).  Throws the
+/// same InputError on every rank: of the first bad row when rows are bad.
+SampleBlock read_sample_block(MPI_Comm comm, const std::string& path);
 
 }  // namespace lem

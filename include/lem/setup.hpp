@@ -35,6 +35,8 @@ struct SampleOptions {
   /// particle phase -- the homogeneous lattice of the same geometry that
   /// calibrates E^[p] and sigma^[p] (paper sect. 3).
   bool homogeneous = false;
+  /// Sample file only: set it up in parallel (lem/parallel_setup.hpp).
+  bool parallel = false;
 };
 SampleOptions read_sample_options(MPI_Comm comm);
 
@@ -61,6 +63,12 @@ struct SetupReport {
   double seconds_build = 0, seconds_constraints = 0, seconds_partition = 0,
          seconds_distribute = 0;
 };
+
+/// The tension lattice of these options: setup_tension_lattice of
+/// build_sample, or setup_sample_in_parallel for a sample file with
+/// `parallel` set.  Collective.
+DistributedLattice setup_sample_lattice(MPI_Comm comm, const SampleOptions& options,
+                                        SetupReport& report);
 
 /// Run `build` on rank 0, add the tension constraints, partition over the
 /// ranks of `comm` and scatter.  Errors on rank 0 are raised on every rank.

@@ -59,19 +59,29 @@ std::vector<char> all_to_all_bytes(MPI_Comm comm, const std::vector<char>& send,
   return out;
 }
 
+RowBlocks::RowBlocks(std::int64_t total_rows, int rank_count)
+    : total(total_rows), ranks(rank_count) {
+  // row * ranks and total * r must fit in 64 bits.
+  if (total < 0 || ranks < 1 || total > std::numeric_limits<std::int64_t>::max() / ranks)
+    throw std::logic_error("RowBlocks: " + std::to_string(total) + " rows on " +
+                           std::to_string(ranks) + " ranks overflow 64 bits");
+}
+
+namespace {
+int size_of(MPI_Comm comm) {
+  int ranks = 1;
+  MPI_Comm_size(comm, &ranks);
+  return ranks;
+}
+}  // namespace
+
 OwnerDirectory::OwnerDirectory(MPI_Comm comm, std::int64_t total,
                                const std::vector<std::int64_t>& owned)
-    : comm_(comm), total_(total) {
+    : comm_(comm), blocks_(total, size_of(comm)) {
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
-  MPI_Comm_size(comm, &ranks_);
-  if (total < 0 || total > std::numeric_limits<std::int64_t>::max() / ranks_)
-    throw std::logic_error("OwnerDirectory: " + std::to_string(total) + " ids on " +
-                           std::to_string(ranks_) + " ranks overflow 64 bits");
-  // The ids kept here: those whose home is this rank.
-  const auto begin_of = [&](int r) { return (total * r + ranks_ - 1) / ranks_; };
-  first_ = begin_of(rank);
-  owner_.assign(static_cast<std::size_t>(begin_of(rank + 1) - first_), -1);
+  first_ = blocks_.begin(rank);
+  owner_.assign(static_cast<std::size_t>(blocks_.begin(rank + 1) - first_), -1);
   std::vector<int> to(owned.size());
   for (std::size_t k = 0; k < owned.size(); ++k) {
     if (owned[k] < 0 || owned[k] >= total)
@@ -82,11 +92,6 @@ OwnerDirectory::OwnerDirectory(MPI_Comm comm, std::int64_t total,
   std::vector<int> from;
   const std::vector<std::int64_t> mine = route(comm, owned, to, &from);
   for (std::size_t k = 0; k < mine.size(); ++k) owner_[mine[k] - first_] = from[k];
-}
-
-int OwnerDirectory::home(std::int64_t id) const {
-  // The largest r with begin(r) <= id, begin(r) = ceil(total * r / ranks).
-  return static_cast<int>(id * ranks_ / total_);  // id * ranks_ fits: checked at construction
 }
 
 std::vector<int> OwnerDirectory::owners(const std::vector<std::int64_t>& ids) const {

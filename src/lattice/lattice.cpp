@@ -36,26 +36,33 @@ LatticeStats lattice_stats(const Lattice& lattice) {
   return s;
 }
 
-std::vector<std::uint8_t> face_flags(const Lattice& lattice, double tol) {
-  const Box& box = lattice.box;
+std::uint8_t faces_of(const Point& p, const Box& box, double tol) {
   const double eps = tol * std::min({box.length(0), box.length(1), box.length(2)});
+  std::uint8_t flags = 0;
+  for (int a = 0; a < 3; ++a) {
+    if (p[a] <= box.lo[a] + eps) flags |= static_cast<std::uint8_t>(1 << (2 * a));
+    if (p[a] >= box.hi[a] - eps) flags |= static_cast<std::uint8_t>(1 << (2 * a + 1));
+  }
+  return flags;
+}
+
+std::vector<std::uint8_t> face_flags(const Lattice& lattice, double tol) {
   std::vector<std::uint8_t> flags(lattice.node_count(), 0);
   for (std::size_t n = 0; n < lattice.node_count(); ++n)
-    for (int a = 0; a < 3; ++a) {
-      if (lattice.nodes[n][a] <= box.lo[a] + eps) flags[n] |= static_cast<std::uint8_t>(1 << (2 * a));
-      if (lattice.nodes[n][a] >= box.hi[a] - eps)
-        flags[n] |= static_cast<std::uint8_t>(1 << (2 * a + 1));
-    }
+    flags[n] = faces_of(lattice.nodes[n], lattice.box, tol);
   return flags;
+}
+
+double face_share(std::uint8_t faces_i, std::uint8_t faces_j) {
+  return std::ldexp(1.0, -std::popcount(unsigned(faces_i & faces_j)));
 }
 
 void halve_face_bonds(Lattice& lattice) {
   const auto faces = face_flags(lattice);
   for (std::size_t b = 0; b < lattice.bond_count(); ++b) {
     const Bond& bond = lattice.bonds[b];
-    const int shared_faces = std::popcount(unsigned(faces[bond.i] & faces[bond.j]));
-    if (shared_faces == 0) continue;
-    const double share = std::ldexp(1.0, -shared_faces);
+    const double share = face_share(faces[bond.i], faces[bond.j]);
+    if (share == 1.0) continue;
     lattice.stiffness[b] *= share;
     if (!lattice.strength.empty()) lattice.strength[b] *= share;
   }
@@ -122,20 +129,26 @@ Lattice make_fcc_block(std::array<int, 3> half_cells, double a, double k) {
 
 namespace lem {
 
+void add_affine_bond(AffineModuli& m, const Point& p, const Point& q, double k, double volume) {
+  const double d[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]};
+  const double l2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+  // k L^2 n_i n_j n_k n_l = k d_i d_j d_k d_l / L^2
+  const double v[6] = {d[0] * d[0], d[1] * d[1], d[2] * d[2], d[1] * d[2], d[0] * d[2], d[0] * d[1]};
+  const double w = k / (l2 * volume);
+  for (int I = 0; I < 6; ++I)
+    for (int J = 0; J < 6; ++J) m.C[I][J] += w * v[I] * v[J];
+}
+
 AffineModuli affine_moduli(const Lattice& lattice) {
   AffineModuli m;
-  const double volume = lattice.box.volume();
-  for (std::size_t b = 0; b < lattice.bond_count(); ++b) {
-    const Point& p = lattice.nodes[lattice.bonds[b].i];
-    const Point& q = lattice.nodes[lattice.bonds[b].j];
-    const double d[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]};
-    const double l2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-    // k L^2 n_i n_j n_k n_l = k d_i d_j d_k d_l / L^2
-    const double v[6] = {d[0] * d[0], d[1] * d[1], d[2] * d[2], d[1] * d[2], d[0] * d[2], d[0] * d[1]};
-    const double w = lattice.stiffness[b] / (l2 * volume);
-    for (int I = 0; I < 6; ++I)
-      for (int J = 0; J < 6; ++J) m.C[I][J] += w * v[I] * v[J];
-  }
+  for (std::size_t b = 0; b < lattice.bond_count(); ++b)
+    add_affine_bond(m, lattice.nodes[lattice.bonds[b].i], lattice.nodes[lattice.bonds[b].j],
+                    lattice.stiffness[b], lattice.box.volume());
+  finish_affine_moduli(m);
+  return m;
+}
+
+void finish_affine_moduli(AffineModuli& m) {
   // Compliance by Gauss-Jordan elimination with partial pivoting.
   double a[6][12] = {};
   for (int I = 0; I < 6; ++I) {
@@ -146,7 +159,7 @@ AffineModuli affine_moduli(const Lattice& lattice) {
     int pivot = c;
     for (int r = c + 1; r < 6; ++r)
       if (std::fabs(a[r][c]) > std::fabs(a[pivot][c])) pivot = r;
-    if (a[pivot][c] == 0) return m;  // singular (e.g. empty lattice): leave zeros
+    if (a[pivot][c] == 0) return;  // singular (e.g. empty lattice): leave zeros
     for (int k = 0; k < 12; ++k) std::swap(a[c][k], a[pivot][k]);
     const double inv = 1.0 / a[c][c];
     for (int k = 0; k < 12; ++k) a[c][k] *= inv;
@@ -159,7 +172,6 @@ AffineModuli affine_moduli(const Lattice& lattice) {
   const double s33 = a[2][6 + 2], s13 = a[0][6 + 2], s23 = a[1][6 + 2];
   m.young_z = 1.0 / s33;
   m.poisson_z = -(s13 + s23) / (2.0 * s33);
-  return m;
 }
 
 }  // namespace lem

@@ -18,6 +18,10 @@ std::string value_text(double v) {
 
 namespace {
 
+double box_side(const Box& box) {
+  return std::max({box.length(0), box.length(1), box.length(2)});
+}
+
 std::string point_text(const Point& p) {
   return "(" + value_text(p[0]) + ", " + value_text(p[1]) + ", " + value_text(p[2]) + ")";
 }
@@ -27,54 +31,86 @@ std::string point_text(const Point& p) {
 // The values a mechanical run relies on: a NaN or a node far outside the box
 // would otherwise surface far from its cause (a "disconnected" sample, a
 // diverged solve) or not at all (a wrong stress).
-std::string first_geometry_problem(const CementedSample& s) {
-  const Box& box = s.lattice.box;
-  double side = 0;
-  for (int a = 0; a < 3; ++a) {
+std::string first_box_problem(const Box& box) {
+  for (int a = 0; a < 3; ++a)
     if (!std::isfinite(box.lo[a]) || !std::isfinite(box.hi[a]) || !(box.lo[a] < box.hi[a]))
       return ("attributes box_lo " + point_text(box.lo) + " and box_hi " + point_text(box.hi) +
                 " do not describe a box");
-    side = std::max(side, box.length(a));
-  }
+  return {};
+}
+
+std::string first_node_problem(const Box& box, const std::vector<Point>& nodes,
+                               const std::vector<double>& volume, std::int64_t first_row) {
   // Nodes lie on the faces up to the rounding of whoever wrote them.
-  const double slack = 1e-9 * side;
-  const auto& nodes = s.lattice.nodes;
+  const double slack = 1e-9 * box_side(box);
   for (std::size_t i = 0; i < nodes.size(); ++i)
     for (int a = 0; a < 3; ++a) {
+      const std::string row = std::to_string(first_row + static_cast<std::int64_t>(i));
       if (!std::isfinite(nodes[i][a]))
-        return ("/nodes/coordinates row " + std::to_string(i) + " = " + point_text(nodes[i]) +
+        return ("/nodes/coordinates row " + row + " = " + point_text(nodes[i]) +
                   " is not finite");
       if (nodes[i][a] < box.lo[a] - slack || nodes[i][a] > box.hi[a] + slack)
-        return ("/nodes/coordinates row " + std::to_string(i) + " = " + point_text(nodes[i]) +
+        return ("/nodes/coordinates row " + row + " = " + point_text(nodes[i]) +
                   " lies outside the box " + point_text(box.lo) + " - " + point_text(box.hi) +
                   " (attributes box_lo, box_hi)");
     }
-  double volume = 0;
-  for (std::size_t i = 0; i < s.node_volume.size(); ++i) {
-    const double v = s.node_volume[i];
-    if (!(std::isfinite(v) && v > 0))
-      return ("/nodes/volume row " + std::to_string(i) + " = " + value_text(v) +
-                " is not a finite positive volume");
-    volume += v;
-  }
+  for (std::size_t i = 0; i < volume.size(); ++i)
+    if (!(std::isfinite(volume[i]) && volume[i] > 0))
+      return ("/nodes/volume row " + std::to_string(first_row + static_cast<std::int64_t>(i)) +
+                " = " + value_text(volume[i]) + " is not a finite positive volume");
+  return {};
+}
+
+std::string volume_sum_problem(const Box& box, double volume) {
   // Clipped Voronoi cells tile the box.
   const double box_volume = box.volume();
-  if (!nodes.empty() && std::fabs(volume - box_volume) > 1e-6 * box_volume)
+  if (std::fabs(volume - box_volume) > 1e-6 * box_volume)
     return ("/nodes/volume sums to " + value_text(volume) + ", not to the volume of the box, " +
               value_text(box_volume));
+  return {};
+}
+
+std::string zero_length_problem(const Box& box, std::int64_t row, std::int64_t i,
+                                std::int64_t j, const Point& p, const Point& q) {
+  const double length = std::sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
+                                  (p[2] - q[2]) * (p[2] - q[2]));
+  if (length > 1e-12 * box_side(box)) return {};
+  return ("/bonds/connectivity row " + std::to_string(row) + " joins nodes " + std::to_string(i) +
+            " and " + std::to_string(j) + ", which coincide at " + point_text(p) +
+            " (a bond of zero length)");
+}
+
+std::string first_description_problem(const CementedSample& s) {
+  for (std::size_t k = 0; k < s.particles.size(); ++k) {
+    const Point& c = s.particles[k].centre;
+    if (!std::isfinite(c[0]) || !std::isfinite(c[1]) || !std::isfinite(c[2]))
+      return ("/particles/centres row " + std::to_string(k) + " = " + point_text(c) +
+                " is not finite");
+  }
+  for (std::size_t k = 0; k < s.bridges.size(); ++k)
+    if (!(std::isfinite(s.bridges[k].lambda) && s.bridges[k].lambda > 0))
+      return ("/bridges/lambda row " + std::to_string(k) + " = " +
+                value_text(s.bridges[k].lambda) + " is not a finite positive ratio");
+  return {};
+}
+
+std::string first_geometry_problem(const CementedSample& s) {
+  const Box& box = s.lattice.box;
+  std::string problem = first_box_problem(box);
+  if (problem.empty()) problem = first_node_problem(box, s.lattice.nodes, s.node_volume, 0);
+  if (!problem.empty()) return problem;
+  double volume = 0;
+  for (const double v : s.node_volume) volume += v;
+  if (!s.lattice.nodes.empty() && !(problem = volume_sum_problem(box, volume)).empty())
+    return problem;
 
   // Bonds: ends already checked to be 0 <= i < j < N.
+  const auto& nodes = s.lattice.nodes;
   const auto& bonds = s.lattice.bonds;
   for (std::size_t b = 0; b < bonds.size(); ++b) {
-    const Point& p = nodes[bonds[b].i];
-    const Point& q = nodes[bonds[b].j];
-    const double length =
-        std::sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
-                  (p[2] - q[2]) * (p[2] - q[2]));
-    if (!(length > 1e-12 * side))
-      return ("/bonds/connectivity row " + std::to_string(b) + " joins nodes " +
-                std::to_string(bonds[b].i) + " and " + std::to_string(bonds[b].j) +
-                ", which coincide at " + point_text(p) + " (a bond of zero length)");
+    problem = zero_length_problem(box, static_cast<std::int64_t>(b), bonds[b].i, bonds[b].j,
+                                  nodes[bonds[b].i], nodes[bonds[b].j]);
+    if (!problem.empty()) return problem;
   }
   // The first row that repeats an earlier one.
   std::vector<std::pair<std::uint64_t, std::size_t>> keys(bonds.size());
@@ -93,21 +129,17 @@ std::string first_geometry_problem(const CementedSample& s) {
     }
   }
   if (repeat < bonds.size())
-    return ("/bonds/connectivity row " + std::to_string(repeat) + " repeats row " +
-              std::to_string(original) + " (nodes " + std::to_string(bonds[repeat].i) +
-              " and " + std::to_string(bonds[repeat].j) + ")");
+    return repeated_bond_problem(static_cast<std::int64_t>(repeat),
+                                 static_cast<std::int64_t>(original), bonds[repeat].i,
+                                 bonds[repeat].j);
+  return first_description_problem(s);
+}
 
-  for (std::size_t k = 0; k < s.particles.size(); ++k) {
-    const Point& c = s.particles[k].centre;
-    if (!std::isfinite(c[0]) || !std::isfinite(c[1]) || !std::isfinite(c[2]))
-      return ("/particles/centres row " + std::to_string(k) + " = " + point_text(c) +
-                " is not finite");
-  }
-  for (std::size_t k = 0; k < s.bridges.size(); ++k)
-    if (!(std::isfinite(s.bridges[k].lambda) && s.bridges[k].lambda > 0))
-      return ("/bridges/lambda row " + std::to_string(k) + " = " +
-                value_text(s.bridges[k].lambda) + " is not a finite positive ratio");
-  return {};
+std::string repeated_bond_problem(std::int64_t row, std::int64_t original, std::int64_t i,
+                                  std::int64_t j) {
+  return ("/bonds/connectivity row " + std::to_string(row) + " repeats row " +
+            std::to_string(original) + " (nodes " + std::to_string(i) + " and " +
+            std::to_string(j) + ")");
 }
 
 }  // namespace lem

@@ -3,6 +3,7 @@
 #include "lem/error.hpp"
 #include "lem/log.hpp"
 #include "lem/options.hpp"
+#include "lem/parallel_setup.hpp"
 #include "lem/partition.hpp"
 #include "lem/sample_file.hpp"
 #include "lem/sample_options.hpp"
@@ -31,6 +32,12 @@ SampleOptions read_sample_options(MPI_Comm comm) {
     o.sample_file = g.string("-sample_file", "HDF5 sample written by lem_sample (e.g. "
                              "meshes/tiny.h5); replaces the -lattice_* and -inclusion_* "
                              "generation, bond moduli from -phase_E_*", "");
+    o.parallel = g.flag("-sample_parallel", "Set the sample file up in parallel: every rank "
+                        "reads its share of the rows, the lattice is partitioned by spatial "
+                        "cells and constrained in parallel (no rank holds the whole sample)",
+                        false);
+    if (o.parallel && o.sample_file.empty())
+      throw InputError("option -sample_parallel sets up a sample file: it needs -sample_file");
     if (!o.sample_file.empty())
       for (const char* name : kGenerationOptions)
         if (g.given(name))
@@ -119,6 +126,13 @@ Lattice build_sample(const SampleOptions& o, SampleInfo& info) {
   }
   info.affine = affine_moduli(lattice);
   return lattice;
+}
+
+DistributedLattice setup_sample_lattice(MPI_Comm comm, const SampleOptions& o,
+                                        SetupReport& report) {
+  if (o.parallel) return setup_sample_in_parallel(comm, o, report);
+  return setup_tension_lattice(
+      comm, [&](SampleInfo& info) { return build_sample(o, info); }, report);
 }
 
 DistributedLattice setup_tension_lattice(MPI_Comm comm,

@@ -99,4 +99,40 @@ Partition partition_lattice(const Lattice& lattice, const std::vector<char>& bon
   return p;
 }
 
+std::vector<int> partition_cells(const std::vector<std::int64_t>& weights,
+                                 const std::vector<std::int64_t>& xadj,
+                                 const std::vector<std::int64_t>& adjncy,
+                                 const std::vector<std::int64_t>& adjwgt, int parts) {
+  const std::size_t cells = weights.size();
+  std::vector<int> out(cells, 0);
+  if (parts <= 1 || cells == 0) return out;
+  const auto fits = [](std::int64_t v) { return v <= std::numeric_limits<idx_t>::max(); };
+  if (!fits(static_cast<std::int64_t>(cells)) || !fits(xadj.back()))
+    throw InputError("the partition grid has " + std::to_string(cells) + " cells and " +
+                     std::to_string(xadj.back() / 2) + " cell pairs: more than METIS's " +
+                     std::to_string(8 * sizeof(idx_t)) + "-bit indices can partition");
+  std::vector<idx_t> x(xadj.begin(), xadj.end()), a(adjncy.begin(), adjncy.end()),
+      w(weights.size()), e(adjwgt.size());
+  // Weights are summed by METIS over a part: they must stay in range.
+  std::int64_t total = 0;
+  for (std::size_t c = 0; c < cells; ++c) total += weights[c];
+  const std::int64_t scale = total / std::numeric_limits<idx_t>::max() + 1;
+  for (std::size_t c = 0; c < cells; ++c) w[c] = static_cast<idx_t>(weights[c] / scale);
+  for (std::size_t k = 0; k < adjwgt.size(); ++k)
+    e[k] = static_cast<idx_t>(std::min<std::int64_t>(adjwgt[k], std::numeric_limits<idx_t>::max() / 64));
+  idx_t nvtxs = static_cast<idx_t>(cells), ncon = 1, nparts = parts, cut = 0;
+  idx_t options[METIS_NOPTIONS];
+  METIS_SetDefaultOptions(options);
+  options[METIS_OPTION_SEED] = 12345;  // the same partition on every rank and run
+  std::vector<idx_t> part(cells, 0);
+  const int status = METIS_PartGraphKway(&nvtxs, &ncon, x.data(), a.data(), w.data(), nullptr,
+                                         e.data(), &nparts, nullptr, nullptr, options, &cut,
+                                         part.data());
+  if (status != METIS_OK)
+    throw std::runtime_error("METIS_PartGraphKway failed on the cell graph with status " +
+                             std::to_string(status));
+  for (std::size_t c = 0; c < cells; ++c) out[c] = static_cast<int>(part[c]);
+  return out;
+}
+
 }  // namespace lem

@@ -84,23 +84,20 @@ std::vector<char> PieceFinder::underconnected() const {
   }
 }
 
-PieceReport PieceFinder::find() const {
+std::vector<std::int64_t> PieceFinder::labels(const std::vector<char>& excluded) const {
   const DistributedLattice& l = lattice_;
   const int n_local = l.local_nodes();
-  // Under-connected nodes first: they count as pinned below.
-  const std::vector<char> out = underconnected();
-  auto excluded = [&](int n) { return out[n] != 0; };
   UnionFind uf(n_local);
   for (int b = 0; b < l.local_bonds(); ++b) {
     const auto [p, q] = l.bond_ends[b];
-    if (l.bond_stiffness[b] > 0 && !excluded(p) && !excluded(q)) uf.unite(p, q);
+    if (l.bond_stiffness[b] > 0 && !excluded[p] && !excluded[q]) uf.unite(p, q);
   }
   std::vector<int> root(n_local);
   for (int n = 0; n < n_local; ++n) root[n] = uf.find(n);
 
   std::vector<double> label(n_local);
   for (int n = 0; n < n_local; ++n)
-    label[n] = excluded(n) ? kPinnedLabel : static_cast<double>(l.global_index[n]);
+    label[n] = excluded[n] ? kPinnedLabel : static_cast<double>(l.global_index[n]);
   // Rounds: smallest label within each local set, then across ranks.
   for (;;) {
     std::vector<double> best(n_local, kPinnedLabel);
@@ -130,6 +127,19 @@ PieceReport PieceFinder::find() const {
     MPI_Allreduce(&changed, &any, 1, MPI_INT, MPI_MAX, l.comm);
     if (!any) break;
   }
+  std::vector<std::int64_t> out(n_local, -1);
+  for (int n = 0; n < n_local; ++n)
+    if (!excluded[n]) out[n] = static_cast<std::int64_t>(label[n]);
+  return out;
+}
+
+PieceReport PieceFinder::find() const {
+  const DistributedLattice& l = lattice_;
+  const int n_local = l.local_nodes();
+  // Under-connected nodes first: they count as pinned below.
+  const std::vector<char> out = underconnected();
+  auto excluded = [&](int n) { return out[n] != 0; };
+  const std::vector<std::int64_t> label = labels(out);
 
   // Which faces each piece reaches, merged over the ranks (few pieces).
   enum : int { kBottom = 1, kTop = 2 };
@@ -137,7 +147,7 @@ PieceReport PieceFinder::find() const {
   std::map<std::int64_t, std::int64_t> size;
   for (int n = 0; n < l.owned; ++n) {
     if (excluded(n)) continue;
-    const auto piece = static_cast<std::int64_t>(label[n]);
+    const std::int64_t piece = label[n];
     const std::uint8_t f = l.dof_flags[n];
     int bits = 0;
     if (f & kLoadedTop) bits |= kTop;
@@ -171,7 +181,7 @@ PieceReport PieceFinder::find() const {
       report.loose_nodes.push_back(n);
       continue;
     }
-    const auto it = reach.find(static_cast<std::int64_t>(label[n]));
+    const auto it = reach.find(label[n]);
     // A ghost's piece is always known: the ghost's owner reported it.
     if (it == reach.end() || it->second != (kBottom | kTop)) report.loose_nodes.push_back(n);
   }

@@ -1,0 +1,546 @@
+#include "lem/parallel_setup.hpp"
+
+#include "lem/cell_grid.hpp"
+#include "lem/collective.hpp"
+#include "lem/error.hpp"
+#include "lem/exact_sum.hpp"
+#include "lem/log.hpp"
+#include "lem/partition.hpp"
+#include "lem/pieces.hpp"
+#include "lem/redistribute.hpp"
+#include "lem/sample_file.hpp"
+#include "lem/tension.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <numeric>
+#include <type_traits>
+#include <unordered_map>
+
+namespace lem {
+namespace {
+
+int rank_in(MPI_Comm comm) {
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  return rank;
+}
+
+int ranks_in(MPI_Comm comm) {
+  int ranks = 1;
+  MPI_Comm_size(comm, &ranks);
+  return ranks;
+}
+
+template <class T>
+T sum_over(MPI_Comm comm, T mine) {
+  T total{};
+  const MPI_Datatype type = std::is_same_v<T, double> ? MPI_DOUBLE : MPI_INT64_T;
+  MPI_Allreduce(&mine, &total, 1, type, MPI_SUM, comm);
+  return total;
+}
+
+std::int64_t exclusive_prefix(MPI_Comm comm, std::int64_t mine) {
+  std::int64_t before = 0;
+  MPI_Exscan(&mine, &before, 1, MPI_INT64_T, MPI_SUM, comm);
+  return rank_in(comm) == 0 ? 0 : before;
+}
+
+// A node on its way to its owner.
+struct NodeRecord {
+  std::int64_t id;
+  Point x;
+  double volume;
+  std::int32_t particle;
+  std::uint8_t faces, pad[3];
+};
+
+// A bond of the mechanical lattice on its way to the owners of its ends.
+struct BondRecord {
+  std::int64_t id, i, j;  // mechanical bond id; end nodes (file rows)
+  Point xi, xj;           // the ends' positions: their cells name their owners
+  double k, f;
+  std::uint8_t tag, pad[7];
+};
+
+// What the owner of a ghost node tells the ranks that hold it.
+struct GhostRecord {
+  std::int64_t global_index;
+  double volume;
+  std::int32_t particle;
+  std::uint8_t faces, pad[3];
+};
+
+// Steps 1-2: the bonds of this rank's block of rows, checked, with their
+// stiffness, strength and mechanical id; the lattice statistics.
+struct BlockBonds {
+  std::vector<BondRecord> bonds;
+  double mean_kept_length = 0;  // over the mechanical bonds: the load step's unit
+  std::int64_t kept = 0;        // mechanical bonds, all ranks
+  SampleInfo info;
+};
+
+BlockBonds mechanical_bonds(MPI_Comm comm, const SampleBlock& block, const SampleOptions& o) {
+  const Box& box = block.description.sample.lattice.box;
+  // Lengths: statistics of every bond (void ones too).
+  ExactSum length_sum, square_sum;
+  double shortest = std::numeric_limits<double>::infinity(), longest = 0;
+  for (const auto& [p, q] : block.end_coords) {
+    const double l = std::sqrt((q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1]) +
+                               (q[2] - p[2]) * (q[2] - p[2]));
+    length_sum.add(l);
+    square_sum.add(l * l);
+    shortest = std::min(shortest, l);
+    longest = std::max(longest, l);
+  }
+  BlockBonds out;
+  LatticeStats& s = out.info.stats;
+  s.nodes = block.nodes;
+  s.bonds = block.bonds;
+  if (s.bonds > 0) {
+    const double n = static_cast<double>(s.bonds);
+    s.mean_length = length_sum.all_ranks(comm).value() / n;
+    const double mean_square = square_sum.all_ranks(comm).value() / n;
+    s.std_length = std::sqrt(std::max(0.0, mean_square - s.mean_length * s.mean_length));
+    MPI_Allreduce(&shortest, &s.min_length, 1, MPI_DOUBLE, MPI_MIN, comm);
+    MPI_Allreduce(&longest, &s.max_length, 1, MPI_DOUBLE, MPI_MAX, comm);
+    s.mean_coordination = 2.0 * n / static_cast<double>(s.nodes);
+    s.mesh_density = std::pow(n, -1.0 / 3.0);
+  }
+  out.info.cemented = block.description.sample.stats;
+
+  // The mechanical lattice: void bonds and bonds of zero stiffness dropped,
+  // the others numbered in file order (mechanical_lattice's ids).
+  const double a = s.mean_length;
+  ExactSum kept_length;
+  for (std::size_t k = 0; k < block.ends.size(); ++k) {
+    const Phase phase = o.homogeneous ? Phase::p : block.bond_phase[k];
+    const int code = static_cast<int>(phase);
+    const double stiffness = o.phases.modulus[code] * a;
+    if (phase == Phase::v || stiffness <= 0) continue;
+    BondRecord r{};
+    r.i = block.ends[k][0];
+    r.j = block.ends[k][1];
+    r.xi = block.end_coords[k][0];
+    r.xj = block.end_coords[k][1];
+    r.k = stiffness;
+    r.f = o.phases.strength[code] * a * a;
+    r.tag = static_cast<std::uint8_t>(code);
+    if (o.halve_face_bonds) {
+      const double share = face_share(faces_of(r.xi, box), faces_of(r.xj, box));
+      r.k *= share;
+      r.f *= share;
+    }
+    const Point& p = r.xi;
+    const Point& q = r.xj;
+    kept_length.add(std::sqrt((q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1]) +
+                              (q[2] - p[2]) * (q[2] - p[2])));
+    add_affine_bond(out.info.affine, p, q, r.k, box.volume());
+    out.bonds.push_back(r);
+  }
+  const std::int64_t first_id = exclusive_prefix(comm, static_cast<std::int64_t>(out.bonds.size()));
+  for (std::size_t k = 0; k < out.bonds.size(); ++k)
+    out.bonds[k].id = first_id + static_cast<std::int64_t>(k);
+  out.kept = sum_over(comm, static_cast<std::int64_t>(out.bonds.size()));
+  out.mean_kept_length =
+      out.kept > 0 ? kept_length.all_ranks(comm).value() / static_cast<double>(out.kept) : 0.0;
+  MPI_Allreduce(MPI_IN_PLACE, &out.info.affine.C[0][0], 36, MPI_DOUBLE, MPI_SUM, comm);
+  finish_affine_moduli(out.info.affine);
+  return out;
+}
+
+// Step 3: the owner rank of every position, from a METIS partition of a
+// grid of cells (about 8 to 256 nodes each, and 64 cells per rank or more).
+class CellOwners {
+ public:
+  CellOwners(MPI_Comm comm, const SampleBlock& block, const std::vector<BondRecord>& bonds)
+      : grid_(block.description.sample.lattice.box, cell_side(comm, block)) {
+    const int ranks = ranks_in(comm);
+    const std::size_t cells = grid_.cell_count();
+    // Work per cell: its nodes and the ends of its bonds; bonds between
+    // neighbouring cells, one count per direction (27 around a cell).
+    std::vector<std::int64_t> weight(cells, 0);
+    std::vector<std::int32_t> joined(27 * cells, 0);
+    for (const Point& x : block.coords) ++weight[grid_.cell_of(x)];
+    for (const BondRecord& b : bonds) {
+      const auto ci = grid_.coordinates(b.xi), cj = grid_.coordinates(b.xj);
+      const std::size_t i = grid_.index(ci[0], ci[1], ci[2]), j = grid_.index(cj[0], cj[1], cj[2]);
+      ++weight[i], ++weight[j];
+      if (i == j) continue;
+      int d = 0;
+      bool near = true;
+      for (int a = 0; a < 3; ++a) {
+        const int step = cj[a] - ci[a];
+        near = near && std::abs(step) <= 1;
+        d = 3 * d + step + 1;
+      }
+      if (!near) continue;  // longer than a cell: left out of the weights only
+      ++joined[27 * i + d];
+      ++joined[27 * j + (26 - d)];
+    }
+    MPI_Allreduce(MPI_IN_PLACE, weight.data(), static_cast<int>(cells), MPI_INT64_T, MPI_SUM,
+                  comm);
+    in_pieces(joined.size(), std::uint64_t(1) << 28, [&](std::uint64_t start, int count) {
+      MPI_Allreduce(MPI_IN_PLACE, joined.data() + start, count, MPI_INT32_T, MPI_SUM, comm);
+    });
+    const std::int64_t filled = std::count_if(weight.begin(), weight.end(),
+                                              [](std::int64_t w) { return w > 0; });
+    if (filled < ranks)
+      throw InputError("the sample's " + std::to_string(block.nodes) + " nodes fill " +
+                       std::to_string(filled) + " cells of the partition grid, fewer than the " +
+                       std::to_string(ranks) + " ranks: run it on fewer ranks");
+    std::vector<std::int64_t> xadj(cells + 1, 0), adjncy, adjwgt;
+    const auto& n = grid_.counts();
+    for (std::size_t c = 0; c < cells; ++c) {
+      const int ck = static_cast<int>(c % n[2]), cj = static_cast<int>(c / n[2] % n[1]),
+                ci = static_cast<int>(c / n[2] / n[1]);
+      for (int d = 0; d < 27; ++d) {
+        if (d == 13 || joined[27 * c + d] == 0) continue;
+        adjncy.push_back(static_cast<std::int64_t>(
+            grid_.index(ci + d / 9 - 1, cj + d / 3 % 3 - 1, ck + d % 3 - 1)));
+        adjwgt.push_back(joined[27 * c + d]);
+      }
+      xadj[c + 1] = static_cast<std::int64_t>(adjncy.size());
+    }
+    part_ = partition_cells(weight, xadj, adjncy, adjwgt, ranks);
+  }
+
+  int owner(const Point& x) const { return part_[grid_.cell_of(x)]; }
+
+ private:
+  static double cell_side(MPI_Comm comm, const SampleBlock& block) {
+    const double nodes = static_cast<double>(std::max<std::int64_t>(block.nodes, 1));
+    const double per_cell = std::clamp(nodes / (64.0 * ranks_in(comm)), 8.0, 256.0);
+    return std::cbrt(block.description.sample.lattice.box.volume() * per_cell / nodes);
+  }
+
+  CellGrid grid_;
+  std::vector<int> part_;
+};
+
+std::uint8_t tension_flags(std::uint8_t faces) {
+  if (faces & kZmax) return kFixZ | kLoadedTop;
+  if (faces & kZmin) return kFixZ;
+  return 0;
+}
+
+// Step 4: nodes and bonds at their owners, numbered; ghosts known.
+DistributedLattice distribute(MPI_Comm comm, const SampleBlock& block,
+                              const std::vector<BondRecord>& bonds, const CellOwners& owners,
+                              std::vector<int>& ghost_owner) {
+  const int rank = rank_in(comm);
+  const Box& box = block.description.sample.lattice.box;
+  std::vector<NodeRecord> nodes(block.coords.size());
+  std::vector<int> to(nodes.size());
+  for (std::size_t k = 0; k < nodes.size(); ++k) {
+    NodeRecord& r = nodes[k];
+    r = NodeRecord{};
+    r.id = block.node_begin + static_cast<std::int64_t>(k);
+    r.x = block.coords[k];
+    r.volume = block.volume[k];
+    r.particle = block.particle[k];
+    r.faces = faces_of(r.x, box);
+    to[k] = owners.owner(r.x);
+  }
+  std::vector<NodeRecord> owned = route(comm, nodes, to);
+  nodes.clear();
+  std::vector<BondRecord> sent;
+  to.clear();
+  for (const BondRecord& b : bonds) {
+    const int oi = owners.owner(b.xi), oj = owners.owner(b.xj);
+    sent.push_back(b), to.push_back(oi);
+    if (oj != oi) sent.push_back(b), to.push_back(oj);
+  }
+  std::vector<BondRecord> held = route(comm, sent, to);
+  sent.clear();
+  // The same order on any rank count: nodes along the Morton curve, bonds by id.
+  std::sort(owned.begin(), owned.end(), [&](const NodeRecord& a, const NodeRecord& b) {
+    const std::uint64_t ka = morton_code(a.x, box), kb = morton_code(b.x, box);
+    return ka != kb ? ka < kb : a.id < b.id;
+  });
+  std::sort(held.begin(), held.end(),
+            [](const BondRecord& a, const BondRecord& b) { return a.id < b.id; });
+
+  DistributedLattice dl;
+  dl.comm = comm;
+  dl.box = box;
+  dl.global_nodes = block.nodes;
+  dl.owned = static_cast<int>(owned.size());
+  dl.node_begin = exclusive_prefix(comm, dl.owned);
+  std::unordered_map<std::int64_t, int> local;  // node id -> local index
+  for (const NodeRecord& r : owned) {
+    local.emplace(r.id, dl.local_nodes());
+    dl.global_index.push_back(dl.node_begin + dl.local_nodes());
+    dl.node_id.push_back(r.id);
+    dl.coords.push_back(r.x);
+    dl.faces.push_back(r.faces);
+    dl.dof_flags.push_back(tension_flags(r.faces));
+    dl.node_volume.push_back(r.volume);
+    dl.node_particle.push_back(r.particle);
+  }
+  // Ghosts: ends held here but owned elsewhere, asked of their owners.
+  std::map<std::int64_t, int> ghosts;  // id -> owner
+  for (const BondRecord& b : held) {
+    if (owners.owner(b.xi) != rank) ghosts.emplace(b.i, owners.owner(b.xi));
+    if (owners.owner(b.xj) != rank) ghosts.emplace(b.j, owners.owner(b.xj));
+  }
+  std::vector<std::int64_t> ghost_ids;
+  std::vector<int> ghost_to;
+  for (const auto& [id, owner] : ghosts) ghost_ids.push_back(id), ghost_to.push_back(owner);
+  std::unordered_map<std::int64_t, Point> ghost_x;
+  for (const BondRecord& b : held) ghost_x.emplace(b.i, b.xi), ghost_x.emplace(b.j, b.xj);
+  const std::vector<GhostRecord> told = ask<GhostRecord>(comm, ghost_ids, ghost_to, [&](std::int64_t id) {
+    const int n = local.at(id);
+    GhostRecord g{};
+    g.global_index = dl.global_index[n];
+    g.volume = dl.node_volume[n];
+    g.particle = dl.node_particle[n];
+    g.faces = dl.faces[n];
+    return g;
+  });
+  // Ghosts in increasing global order.
+  std::vector<std::size_t> order(ghost_ids.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return told[a].global_index < told[b].global_index;
+  });
+  ghost_owner.clear();
+  for (const std::size_t g : order) {
+    const std::int64_t id = ghost_ids[g];
+    local.emplace(id, dl.local_nodes());
+    dl.global_index.push_back(told[g].global_index);
+    dl.node_id.push_back(id);
+    dl.coords.push_back(ghost_x.at(id));
+    dl.faces.push_back(told[g].faces);
+    dl.dof_flags.push_back(tension_flags(told[g].faces));
+    dl.node_volume.push_back(told[g].volume);
+    dl.node_particle.push_back(told[g].particle);
+    ghost_owner.push_back(ghost_to[g]);
+  }
+  const std::int64_t end = dl.node_begin + dl.owned;
+  for (const BondRecord& b : held) {
+    const int p = local.at(b.i), q = local.at(b.j);
+    dl.bond_ends.push_back({p, q});
+    dl.bond_id.push_back(b.id);
+    dl.bond_stiffness.push_back(b.k);
+    dl.bond_strength.push_back(b.f);
+    dl.bond_tag.push_back(b.tag);
+    const std::int64_t low = std::min(dl.global_index[p], dl.global_index[q]);
+    dl.bond_reported.push_back(low >= dl.node_begin && low < end ? 1 : 0);
+  }
+  return dl;
+}
+
+// Per piece of the lattice, summed over the ranks (few pieces).
+struct PieceFaces {
+  std::int64_t bottom = 0, top = 0;
+  double bottom_x = 0, bottom_y = 0, top_x = 0, top_y = 0;
+  bool on_bottom() const { return bottom > 0; }
+  double x() const { return on_bottom() ? bottom_x / double(bottom) : top_x / double(top); }
+  double y() const { return on_bottom() ? bottom_y / double(bottom) : top_y / double(top); }
+};
+
+// The node of each piece that `better` prefers (of the nodes on the piece's
+// anchoring face), over all ranks; ties go to the lowest id.
+struct Pick {
+  std::int64_t piece, id;
+  double score, x, y;
+};
+
+template <class Score>
+std::map<std::int64_t, Pick> pick_nodes(const DistributedLattice& l,
+                                        const std::vector<std::int64_t>& label,
+                                        const std::map<std::int64_t, PieceFaces>& pieces,
+                                        Score&& score) {
+  std::map<std::int64_t, Pick> best;
+  const auto take = [&](const Pick& p) {
+    auto [it, fresh] = best.emplace(p.piece, p);
+    if (!fresh && (p.score < it->second.score ||
+                   (p.score == it->second.score && p.id < it->second.id)))
+      it->second = p;
+  };
+  for (int n = 0; n < l.owned; ++n) {
+    if (label[n] < 0) continue;
+    const auto it = pieces.find(label[n]);
+    if (it == pieces.end()) continue;
+    const std::uint8_t face = it->second.on_bottom() ? kZmin : kZmax;
+    if (!(l.faces[n] & face)) continue;
+    take({label[n], l.node_id[n], score(label[n], l.coords[n]), l.coords[n][0], l.coords[n][1]});
+  }
+  std::vector<Pick> mine;
+  for (const auto& [piece, p] : best) mine.push_back(p);
+  best.clear();
+  for (const Pick& p : allgather(l.comm, mine)) take(p);
+  return best;
+}
+
+// Step 5: the constraints of make_tension_constraints, in parallel: returns
+// them as counts; the lattice keeps only the bonds in the system and the
+// ghosts they need, with every node's flags.
+void constrain(DistributedLattice& l, const std::vector<int>& ghost_owner, SetupReport& report) {
+  const PieceFinder finder(l);
+  std::vector<char> out = finder.underconnected();
+  const std::vector<std::int64_t> label = finder.labels(out);
+
+  std::map<std::int64_t, PieceFaces> pieces;
+  {
+    struct Sums {
+      std::int64_t piece, bottom, top;
+      double bottom_x, bottom_y, top_x, top_y;
+    };
+    std::map<std::int64_t, Sums> mine;
+    for (int n = 0; n < l.owned; ++n) {
+      if (label[n] < 0) continue;
+      auto [it, fresh] = mine.emplace(label[n], Sums{label[n], 0, 0, 0, 0, 0, 0});
+      Sums& s = it->second;
+      if (l.faces[n] & kZmin) ++s.bottom, s.bottom_x += l.coords[n][0], s.bottom_y += l.coords[n][1];
+      if (l.faces[n] & kZmax) ++s.top, s.top_x += l.coords[n][0], s.top_y += l.coords[n][1];
+    }
+    std::vector<Sums> list;
+    for (const auto& [piece, s] : mine) list.push_back(s);
+    for (const Sums& s : allgather(l.comm, list)) {
+      PieceFaces& p = pieces[s.piece];
+      p.bottom += s.bottom, p.top += s.top;
+      p.bottom_x += s.bottom_x, p.bottom_y += s.bottom_y, p.top_x += s.top_x, p.top_y += s.top_y;
+    }
+  }
+  // A piece with fewer than three nodes on the loaded faces carries no load.
+  std::int64_t loaded = 0;
+  for (auto it = pieces.begin(); it != pieces.end();) {
+    const PieceFaces& p = it->second;
+    if (p.bottom + p.top >= 3) {
+      loaded += p.bottom > 0 && p.top > 0;
+      ++it;
+      continue;
+    }
+    it = pieces.erase(it);
+  }
+  if (loaded == 0)
+    throw InputError("tension: no connected piece of the lattice joins the bottom face to the "
+                     "top face (sample disconnected)");
+  for (int n = 0; n < l.local_nodes(); ++n)
+    if (label[n] >= 0 && pieces.count(label[n]) == 0) out[n] = 1;
+  for (int n = 0; n < l.local_nodes(); ++n)
+    if (out[n]) l.dof_flags[n] = kFixX | kFixY | kFixZ | kPinned;
+
+  // Anchors: the node nearest the centroid of the piece's face holds x and
+  // y; the node farthest from it, the component across the line between them.
+  const auto anchors = pick_nodes(l, label, pieces, [&](std::int64_t piece, const Point& x) {
+    const PieceFaces& p = pieces.at(piece);
+    return (x[0] - p.x()) * (x[0] - p.x()) + (x[1] - p.y()) * (x[1] - p.y());
+  });
+  const auto far = pick_nodes(l, label, pieces, [&](std::int64_t piece, const Point& x) {
+    const Pick& a = anchors.at(piece);
+    return -((x[0] - a.x) * (x[0] - a.x) + (x[1] - a.y) * (x[1] - a.y));
+  });
+  for (int n = 0; n < l.owned; ++n) {
+    if (label[n] < 0 || pieces.count(label[n]) == 0) continue;
+    const Pick& a = anchors.at(label[n]);
+    const Pick& f = far.at(label[n]);
+    if (l.node_id[n] == a.id) l.dof_flags[n] |= kFixX | kFixY;
+    if (l.node_id[n] == f.id)
+      l.dof_flags[n] |= std::fabs(f.x - a.x) >= std::fabs(f.y - a.y) ? kFixY : kFixX;
+  }
+  // Ghost copies take their owners' flags.
+  std::unordered_map<std::int64_t, int> owned_index;
+  for (int n = 0; n < l.owned; ++n) owned_index.emplace(l.node_id[n], n);
+  const std::vector<std::int64_t> ghost_ids(l.node_id.begin() + l.owned, l.node_id.end());
+  const std::vector<std::uint8_t> flags = ask<std::uint8_t>(
+      l.comm, ghost_ids, ghost_owner, [&](std::int64_t id) { return l.dof_flags[owned_index.at(id)]; });
+  std::copy(flags.begin(), flags.end(), l.dof_flags.begin() + l.owned);
+
+  // Only the bonds between nodes that are not pinned stay, and the ghosts
+  // they reach.
+  std::int64_t pruned = 0, kept = 0, cut = 0, pinned = 0, bottom = 0, top = 0;
+  std::vector<int> renumber(l.local_nodes(), -1);
+  for (int n = 0; n < l.owned; ++n) renumber[n] = n;
+  DistributedLattice k;
+  k.comm = l.comm, k.box = l.box, k.mean_bond_length = l.mean_bond_length;
+  k.global_nodes = l.global_nodes, k.node_begin = l.node_begin, k.owned = l.owned;
+  const auto owned_part = [&](const auto& v) {
+    return std::decay_t<decltype(v)>(v.begin(), v.begin() + l.owned);
+  };
+  k.global_index = owned_part(l.global_index), k.node_id = owned_part(l.node_id);
+  k.coords = owned_part(l.coords), k.dof_flags = owned_part(l.dof_flags);
+  k.faces = owned_part(l.faces), k.node_volume = owned_part(l.node_volume);
+  k.node_particle = owned_part(l.node_particle);
+  for (int b = 0; b < l.local_bonds(); ++b) {
+    const auto [p, q] = l.bond_ends[b];
+    if (out[p] || out[q]) {
+      pruned += l.bond_reported[b];
+      continue;
+    }
+    k.bond_ends.push_back({p, q});
+    k.bond_id.push_back(l.bond_id[b]);
+    k.bond_stiffness.push_back(l.bond_stiffness[b]);
+    k.bond_strength.push_back(l.bond_strength[b]);
+    k.bond_tag.push_back(l.bond_tag[b]);
+    k.bond_reported.push_back(l.bond_reported[b]);
+    kept += l.bond_reported[b];
+    cut += l.bond_reported[b] && (p >= l.owned || q >= l.owned);
+    for (const int n : {p, q}) renumber[n] = 0;  // marked: still needed
+  }
+  for (int n = l.owned; n < l.local_nodes(); ++n) {
+    if (renumber[n] < 0) continue;
+    renumber[n] = k.local_nodes();
+    k.global_index.push_back(l.global_index[n]);
+    k.node_id.push_back(l.node_id[n]);
+    k.coords.push_back(l.coords[n]);
+    k.dof_flags.push_back(l.dof_flags[n]);
+    k.faces.push_back(l.faces[n]);
+    k.node_volume.push_back(l.node_volume[n]);
+    k.node_particle.push_back(l.node_particle[n]);
+  }
+  for (int n = 0; n < l.owned; ++n) renumber[n] = n;
+  for (auto& e : k.bond_ends) e = {renumber[e[0]], renumber[e[1]]};
+  for (int n = 0; n < l.owned; ++n) {
+    if (l.dof_flags[n] & kPinned) {
+      ++pinned;
+      continue;
+    }
+    bottom += (l.faces[n] & kZmin) != 0;
+    top += (l.faces[n] & kZmax) != 0;
+  }
+  l = std::move(k);
+  l.global_bonds = sum_over(l.comm, kept);
+  report.active_bonds = l.global_bonds;
+  report.pruned_bonds = sum_over(l.comm, pruned);
+  report.pinned_nodes = sum_over(l.comm, pinned);
+  report.bottom_nodes = sum_over(l.comm, bottom);
+  report.top_nodes = sum_over(l.comm, top);
+  report.edge_cut = sum_over(l.comm, cut);
+}
+
+}  // namespace
+
+DistributedLattice setup_sample_in_parallel(MPI_Comm comm, const SampleOptions& o,
+                                            SetupReport& report) {
+  LogStageScope stage("Sample setup");
+  double t = MPI_Wtime();
+  const SampleBlock block = read_sample_block(comm, o.sample_file);
+  BlockBonds bonds = mechanical_bonds(comm, block, o);
+  report.sample = bonds.info;
+  report.seconds_build = MPI_Wtime() - t;
+
+  t = MPI_Wtime();
+  const CellOwners owners(comm, block, bonds.bonds);
+  report.seconds_partition = MPI_Wtime() - t;
+
+  t = MPI_Wtime();
+  std::vector<int> ghost_owner;
+  DistributedLattice dl = distribute(comm, block, bonds.bonds, owners, ghost_owner);
+  dl.mean_bond_length = bonds.mean_kept_length;
+  bonds.bonds.clear();
+  bonds.bonds.shrink_to_fit();
+  report.seconds_distribute = MPI_Wtime() - t;
+
+  t = MPI_Wtime();
+  constrain(dl, ghost_owner, report);
+  report.seconds_constraints = MPI_Wtime() - t;
+  stage.pop();
+  return dl;
+}
+
+}  // namespace lem
