@@ -27,9 +27,9 @@
 #include "lem/setup.hpp"
 #include "lem/voronoi.hpp"
 
-#include <sys/resource.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -61,18 +61,6 @@ double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   const std::size_t n = v.size();
   return n == 0 ? 0.0 : n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-// Peak resident set size (ru_maxrss) of every rank in MB.
-std::vector<double> peak_rss_mb(MPI_Comm comm) {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  const double mb = static_cast<double>(usage.ru_maxrss) / 1024.0;
-  int size = 1;
-  MPI_Comm_size(comm, &size);
-  std::vector<double> all(static_cast<std::size_t>(size));
-  MPI_Allgather(&mb, 1, MPI_DOUBLE, all.data(), 1, MPI_DOUBLE, comm);
-  return all;
 }
 
 std::string list(const std::vector<double>& v) {
@@ -200,7 +188,11 @@ int main(int argc, char** argv) {
                                 2'000'000'000);
       for (const char* o : {"-lattice_nodes", "-lattice_bonds", "-lattice_Ln", "-lattice_type"})
         if (g.given(o)) throw lem::InputError(std::string(o) + ": lem_bench sets the size with "
-                                              "-bench_bonds (random lattices only)");
+                                              "-bench_bonds (random lattices) or reads "
+                                              "-sample_file");
+      if (!sample.sample_file.empty() && g.given("-bench_bonds"))
+        throw lem::InputError("-bench_bonds sizes generated lattices: the sample file "
+                              "-sample_file fixes its lattice");
     }
     const lem::SolverOptions solver = lem::read_solver_options(comm);
     lem::check_option_names(comm);
@@ -217,14 +209,32 @@ int main(int argc, char** argv) {
     MPI_Comm_size(comm, &ranks);
 
     lem::SetupReport setup;
-    auto lattice = lem::setup_tension_lattice(
-        comm, [&](lem::SampleInfo& info) { return lem::build_sample(sample, info); }, setup,
-        morton);
-    const auto rss_setup = peak_rss_mb(comm);
+    // The serial set-up takes -bench_morton; the parallel one (a sample file
+    // with -sample_parallel, the cells generator) numbers along the Morton
+    // curve inside its cell partition.
+    const bool serial = !sample.parallel && sample.generator == lem::LatticeGenerator::serial;
+    const double t_setup = MPI_Wtime();
+    auto lattice = !serial
+                       ? lem::setup_sample_lattice(comm, sample, setup)
+                       : lem::setup_tension_lattice(
+                             comm, [&](lem::SampleInfo& info) { return lem::build_sample(sample, info); },
+                             setup, morton);
+    const double seconds_setup = MPI_Wtime() - t_setup;
+    const auto rss_setup = lem::peak_memory_per_rank_mb(comm);
     const long long nodes = setup.sample.stats.nodes, nbonds = setup.sample.stats.bonds;
-    lem::say("lattice: %lld nodes, %lld bonds (%lld active), %d ranks, %s order, edge cut %lld\n",
+    lem::say("lattice: %lld nodes, %lld bonds (%lld active), %d ranks, %s, edge cut %lld\n",
              nodes, nbonds, static_cast<long long>(setup.active_bonds), ranks,
-             morton ? "Morton" : "METIS", static_cast<long long>(setup.edge_cut));
+             serial ? (morton ? "Morton order" : "METIS order") : "set up in parallel (cells)",
+             static_cast<long long>(setup.edge_cut));
+    // Load balance: the largest rank's share over the mean.
+    const auto max_over_mean = [&](double mine) {
+      double largest = 0, total = 0;
+      MPI_Allreduce(&mine, &largest, 1, MPI_DOUBLE, MPI_MAX, comm);
+      MPI_Allreduce(&mine, &total, 1, MPI_DOUBLE, MPI_SUM, comm);
+      return total > 0 ? largest * ranks / total : 1.0;
+    };
+    lem::say("balance:  owned nodes max/mean %.3f, bonds held max/mean %.3f; set-up %.2f s\n",
+             max_over_mean(lattice.owned), max_over_mean(lattice.local_bonds()), seconds_setup);
 
     const double delta = 3e-4 * lattice.mean_bond_length;
     lem::ElasticSystem* sys = nullptr;
@@ -321,10 +331,35 @@ int main(int argc, char** argv) {
         cg_ms[o].push_back(1e3 * t / static_cast<double>(n));
         cg_its[o].push_back(static_cast<double>(n));
       }
+    // What one CG iteration sends and reduces on each rank (the default bond
+    // operator; the input of the scaling projection, docs/scaling.md).
+    LEM_PETSC(PetscLogDefaultBegin());
+    PetscLogStage message_stage;
+    LEM_PETSC(PetscLogStageRegister("Bench messages", &message_stage));
+    PetscLogEvent solve_event;
+    LEM_PETSC(PetscLogEventGetId("KSPSolve", &solve_event));
+    LEM_PETSC(VecZeroEntries(x));
+    LEM_PETSC(PetscLogStagePush(message_stage));
+    LEM_PETSC(KSPSolve(ksp, b, x));
+    LEM_PETSC(PetscLogStagePop());
+    PetscInt message_its = 0;
+    LEM_PETSC(KSPGetIterationNumber(ksp, &message_its));
+    PetscEventPerfInfo perf{};
+    LEM_PETSC(PetscLogEventGetPerfInfo(message_stage, solve_event, &perf));
+    const double per_iteration = 1.0 / static_cast<double>(std::max<PetscInt>(message_its, 1));
+    const auto over_ranks = [&](double mine) {  // {mean, max}
+      double total = 0, largest = 0;
+      MPI_Allreduce(&mine, &total, 1, MPI_DOUBLE, MPI_SUM, comm);
+      MPI_Allreduce(&mine, &largest, 1, MPI_DOUBLE, MPI_MAX, comm);
+      return std::array<double, 2>{total / ranks, largest};
+    };
+    const auto messages = over_ranks(perf.numMessages * per_iteration);
+    const auto message_bytes = over_ranks(perf.messageLength * per_iteration);
+    const auto reductions = over_ranks(perf.numReductions * per_iteration);
     x.reset();
     b.reset();
 
-    const auto rss = peak_rss_mb(comm);
+    const auto rss = lem::peak_memory_per_rank_mb(comm);
     const double stream = stream_triad_gbs(comm, stream_mb);
 
     const double pcsetup_rep = median(setup_s), solve_rep = median(solve_s), its_rep = median(its);
@@ -359,8 +394,15 @@ int main(int argc, char** argv) {
              median(cg_ms[0]) / median(cg_ms[1]));
     lem::say("STREAM triad: %.2f GB/s aggregate over %d ranks (3 x %.0f MB per rank)\n", stream,
              ranks, stream_mb);
+    lem::say("per CG iteration and rank: %.1f messages (max %.1f), %.3g bytes sent (max %.3g), "
+             "%.1f reductions\n", messages[0], messages[1], message_bytes[0], message_bytes[1],
+             reductions[1]);
     lem::say("peak RSS MB: max %.0f; per rank after set-up [%s], at end [%s]\n", mem_max,
              list(rss_setup).c_str(), list(rss).c_str());
+    lem::say("# MESSAGES columns: ranks,bonds,messages_mean,messages_max,bytes_mean,bytes_max,"
+             "reductions (per CG iteration and rank)\n");
+    lem::say("MESSAGES,%d,%lld,%.2f,%.2f,%.4g,%.4g,%.2f\n", ranks, nbonds, messages[0],
+             messages[1], message_bytes[0], message_bytes[1], reductions[1]);
     lem::say("# BENCH columns: ranks,bonds,nodes,gen_s,partition_s,distribute_s,assembly_s,"
              "pcsetup_s,solve_s,its,mem_max_MB,stream_GBs,constraints_s,morton,pcsetup_rep_s,"
              "solve_rep_s,its_rep,ms_per_it,matmult_ms,matmult_MB,matmult_GBs,it_in_matmults,"

@@ -29,8 +29,7 @@ std::pair<double, int> young_modulus(MPI_Comm comm, lem::SampleOptions sample,
                                      const lem::SolverOptions& solver,
                                      lem::InclusionType inclusions, lem::SetupReport& setup) {
   sample.inclusion_type = inclusions;
-  auto lattice = lem::setup_tension_lattice(
-      comm, [&](lem::SampleInfo& info) { return lem::build_sample(sample, info); }, setup);
+  auto lattice = lem::setup_sample_lattice(comm, sample, setup);
   lem::ElasticSystem system(lattice, solver);
   lem::check_unused_options(lem::SolverStage::created);
   system.assemble();

@@ -553,8 +553,10 @@ int main(int argc, char** argv) {
     s.add("warnings", warnings);
     s.add("resumed", static_cast<long long>(r.resumed));
     s.add("seconds", r.seconds, "s");
-    // The largest rank, of this process: a resumed run reports its own part.
-    s.add("peak_memory_mb", lem::peak_memory_mb(comm), "MB");
+    // Of this process: a resumed run reports its own part.
+    const lem::PeakMemory memory = lem::peak_memory(comm);
+    s.add("peak_memory_mb", memory.max_mb, "MB");
+    s.add("peak_memory_mean_mb", memory.mean_mb, "MB");
     int ranks = 1;
     MPI_Comm_size(comm, &ranks);
     s.add("mpi_ranks", static_cast<long long>(ranks));

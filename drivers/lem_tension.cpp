@@ -70,8 +70,12 @@ int main(int argc, char** argv) {
       summary.add("E_p", e_p, "stress");
       summary.add("E_eff_over_E_p", response.young_modulus / unit / e_p);
     }
-    lem::say("solve: %d CG iterations, PC setup %.2f s, solve %.2f s\n", solve.iterations,
-             solve.setup_seconds, solve.solve_seconds);
+    const lem::PeakMemory memory = lem::peak_memory(comm);
+    summary.add("peak_memory_mb", memory.max_mb, "MB");
+    summary.add("peak_memory_mean_mb", memory.mean_mb, "MB");
+    lem::say("solve: %d CG iterations, PC setup %.2f s, solve %.2f s; peak memory per rank "
+             "%.0f MB (largest), %.0f MB (mean)\n", solve.iterations, solve.setup_seconds,
+             solve.solve_seconds, memory.max_mb, memory.mean_mb);
     if (from_file)
       lem::say("E_eff = %.6g (units of E^phase) = %.6g E^p   (affine estimate %.6g E^p)\n",
                response.young_modulus / unit, response.young_modulus / unit / e_p,

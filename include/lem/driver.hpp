@@ -7,6 +7,7 @@
 #include <mpi.h>
 
 #include <functional>
+#include <vector>
 
 namespace lem {
 
@@ -25,8 +26,13 @@ int run_driver(int argc, char** argv, const char* help,
                const std::function<void(MPI_Comm)>& body,
                StopHandling stops = StopHandling::end_process);
 
-/// The largest peak resident set size of any rank of `comm` since its
-/// process started, in MB (getrusage).  Collective.
-double peak_memory_mb(MPI_Comm comm);
+/// The peak resident set size of every rank of `comm` since its process
+/// started, in MB (getrusage), in rank order.  Collective.
+std::vector<double> peak_memory_per_rank_mb(MPI_Comm comm);
+/// Their largest and their mean, in MB.  Collective.
+struct PeakMemory {
+  double max_mb = 0, mean_mb = 0;
+};
+PeakMemory peak_memory(MPI_Comm comm);
 
 }  // namespace lem

@@ -68,6 +68,8 @@ struct RandomLatticeSpec {
 /// minimum separation have about 7.7 bonds per node in the bulk, fewer at
 /// the faces).
 std::int64_t nodes_for_bond_count(std::int64_t bonds);
+/// The node count make_random_lattice aims at for `spec`.
+std::int64_t target_node_count(const RandomLatticeSpec& spec);
 
 /// Nodes a spec asks for: its node count, else from its bond count, else
 /// from its mesh density L_n = M^(-1/3).  Throws InputError if none is set.

@@ -1,5 +1,6 @@
-// The tension lattice of a sample file set up by every rank for its share,
-// so that no rank reads, holds or partitions the whole sample:
+// The tension lattice of a sample file (or of a lattice generated in
+// parallel) set up by every rank for its share, so that no rank reads,
+// holds or partitions the whole sample:
 //   1. each rank reads a block of the file's node rows and of its bond rows;
 //   2. the bonds get their stiffness and strength (k = E a, f = sigma a^2,
 //      a the mean length of every bond, summed exactly: the same bits on any
@@ -27,5 +28,12 @@ namespace lem {
 /// the last bits of a, summed in another order there).
 DistributedLattice setup_sample_in_parallel(MPI_Comm comm, const SampleOptions& options,
                                             SetupReport& report);
+
+/// The same for a random lattice made by make_cell_lattice
+/// (-lattice_generator cells): its blocks take the place of the file's.
+/// Every bond k = -lattice_k (halved on the faces with -lattice_face_bonds
+/// halved), no breaking forces (the drivers set them).  Collective.
+DistributedLattice setup_generated_in_parallel(MPI_Comm comm, const SampleOptions& options,
+                                               SetupReport& report);
 
 }  // namespace lem

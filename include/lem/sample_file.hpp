@@ -57,6 +57,9 @@ struct SampleFile {
 /// indices or phase codes out of range).
 SampleFile read_sample_file(const std::string& path);
 CementedSample read_sample(const std::string& path);
+/// Only the attributes, particles and bridges (serial, cheap): the sizes of
+/// a sample before it is read.  Its lattice holds only the box.
+SampleFile read_sample_description(const std::string& path);
 
 /// One rank's share of a sample file: a block of its node rows and a block
 /// of its bond rows (lem::RowBlocks over the ranks), and the rest whole.

@@ -19,12 +19,15 @@ namespace lem {
 /// the bond moduli of -phase_*), which excludes the generation options.
 enum class LatticeType { random, fcc, sample /* set by -sample_file */ };
 enum class InclusionType { none, stiff, pore };
+enum class LatticeGenerator { serial, cells };
 
 struct SampleOptions {
   LatticeType lattice_type = LatticeType::random;
   std::string sample_file;              // lem_sample's HDF5 file
   PhaseTable phases;                    // bond moduli of a sample file's phases
   RandomLatticeSpec random;
+  /// Random lattices: made on rank 0, or by every rank (lem/cell_lattice.hpp).
+  LatticeGenerator generator = LatticeGenerator::serial;
   std::array<int, 3> fcc_cells{4, 4, 4};
   InclusionType inclusion_type = InclusionType::none;
   InclusionSpec inclusions;
@@ -64,9 +67,16 @@ struct SetupReport {
          seconds_distribute = 0;
 };
 
-/// The tension lattice of these options: setup_tension_lattice of
-/// build_sample, or setup_sample_in_parallel for a sample file with
-/// `parallel` set.  Collective.
+/// Named errors before any work for a lattice that cannot run here: more
+/// displacements than PETSc's indices number, or more memory than the
+/// machines of the job have available (an estimate per bond).  A sample
+/// file's sizes come from its attributes.  Collective.
+void check_lattice_fits(MPI_Comm comm, const SampleOptions& options);
+
+/// The tension lattice of these options (checked by check_lattice_fits
+/// first): setup_tension_lattice of build_sample, or
+/// setup_sample_in_parallel for a sample file with `parallel` set, or
+/// setup_generated_in_parallel for the cells generator.  Collective.
 DistributedLattice setup_sample_lattice(MPI_Comm comm, const SampleOptions& options,
                                         SetupReport& report);
 

@@ -14,7 +14,9 @@
 #      both attempts; then the 4 runs and the gathered table and figures;
 #   3. one run deleted and submitted again with the mpirun fallback
 #      (LEM_LAUNCHER=mpirun): interrupted the same way, requeued, resumed to
-#      the same result as the uninterrupted run.
+#      the same result as the uninterrupted run;
+#   4. the scaling job (scaling.sh) on the mini sample at 1 and 2 ranks, and
+#      its table.
 # Usage: jobs/slurm/ci-check.sh [WORK_DIR]   (needs build/ from jobs/build.sh)
 set -euo pipefail
 root="$(cd "$(dirname "$0")/../.." && pwd)"
@@ -154,4 +156,15 @@ got=$("$py" -c "import json; print(json.load(open('$work/runs/$victim/summary.js
 [ "$got" = "$reference" ] || fail "resumed run broke $got bonds, the uninterrupted one $reference"
 "$py" "$root/tools/study.py" status "$study" "$work" > /dev/null || fail "study incomplete after the requeue"
 ok "mpirun fallback; run SIGUSR1 -> checkpoint -> requeue -> resume, $got bonds as before"
+
+# 4. The scaling job: lem_bench on the mini sample, set up in parallel, at 1
+#    and 2 ranks under srun, and the table of both.
+LEM_BENCH_OPTIONS="-bench_repeat 1 -bench_matmult 5" \
+  bash "$root/jobs/slurm/scaling.sh" "$root/meshes/mini.h5" "$work/scaling" 1 2 > /dev/null
+read -r -a ids < "$work/scaling/slurm/job-ids"
+wait_jobs "${ids[@]}"
+rows=$(grep -c '^| [12] |' "$work/scaling/scaling.md" 2> /dev/null || true)
+[ "$rows" = 2 ] || fail "the scaling table has $rows of 2 rows: $(tail -3 "$work"/scaling/slurm/*.out)"
+grep -q "srun.*-n 2 .*lem_bench" "$work/scaling/np2.log" || fail "lem_bench did not run under srun: $(head -1 "$work/scaling/np2.log")"
+ok "scaling job at 1 and 2 ranks: $(tail -1 "$work/scaling/scaling.md")"
 echo "slurm-ci: ok (all checks, $((SECONDS - start)) s)"

@@ -8,6 +8,7 @@
 #include <petscsys.h>
 #include <sys/resource.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -79,12 +80,23 @@ int run_driver(int argc, char** argv, const char* help,
   return status;
 }
 
-double peak_memory_mb(MPI_Comm comm) {
+std::vector<double> peak_memory_per_rank_mb(MPI_Comm comm) {
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
-  double mine = static_cast<double>(usage.ru_maxrss) / 1024.0, largest = mine;  // kB on Linux
-  MPI_Allreduce(&mine, &largest, 1, MPI_DOUBLE, MPI_MAX, comm);
-  return largest;
+  const double mine = static_cast<double>(usage.ru_maxrss) / 1024.0;  // kB on Linux
+  int ranks = 1;
+  MPI_Comm_size(comm, &ranks);
+  std::vector<double> all(static_cast<std::size_t>(ranks));
+  MPI_Allgather(&mine, 1, MPI_DOUBLE, all.data(), 1, MPI_DOUBLE, comm);
+  return all;
+}
+
+PeakMemory peak_memory(MPI_Comm comm) {
+  const std::vector<double> all = peak_memory_per_rank_mb(comm);
+  PeakMemory m;
+  m.max_mb = *std::max_element(all.begin(), all.end());
+  for (const double mb : all) m.mean_mb += mb / static_cast<double>(all.size());
+  return m;
 }
 
 }  // namespace lem

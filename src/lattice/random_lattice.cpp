@@ -4,9 +4,7 @@
 #include "lem/error.hpp"
 #include "lem/lattice.hpp"
 
-#include <CGAL/Delaunay_triangulation_3.h>
-#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <CGAL/Triangulation_vertex_base_with_info_3.h>
+#include "random_points.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -15,12 +13,6 @@
 
 namespace lem {
 namespace {
-
-using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
-using VertexBase = CGAL::Triangulation_vertex_base_with_info_3<std::int32_t, Kernel>;
-using CellBase = CGAL::Delaunay_triangulation_cell_base_3<Kernel>;
-using Tds = CGAL::Triangulation_data_structure_3<VertexBase, CellBase>;
-using Delaunay = CGAL::Delaunay_triangulation_3<Kernel, Tds>;
 
 // Hard-core placement: is any point already placed closer than the radius?
 class HardCoreGrid {
@@ -71,12 +63,10 @@ std::int64_t target_node_count(const RandomLatticeSpec& spec) {
   throw InputError("random lattice: give a node count, a bond count or L_n > 0");
 }
 
-Lattice make_random_lattice(const RandomLatticeSpec& spec) {
-  const Box& box = spec.box;
-  const std::int64_t target = target_node_count(spec);
-  if (target > 200'000'000) throw InputError("random lattice: more than 2e8 nodes requested");
-
-  const double spacing = std::cbrt(box.volume() / static_cast<double>(target));
+PointCounts point_counts(const Box& box, std::int64_t target) {
+  PointCounts c;
+  c.spacing = std::cbrt(box.volume() / static_cast<double>(target));
+  const double spacing = c.spacing;
   const double shortest = std::min({box.length(0), box.length(1), box.length(2)});
   if (shortest < 2.0 * spacing) {
     std::ostringstream s;
@@ -85,6 +75,31 @@ Lattice make_random_lattice(const RandomLatticeSpec& spec) {
       << " (need at least two spacings per side: increase the node count)";
     throw InputError(s.str());
   }
+  std::int64_t boundary = 8;
+  for (int a = 0; a < 3; ++a) {
+    const int b = (a + 1) % 3, d = (a + 2) % 3;
+    c.edge[a] = std::max<std::int64_t>(0, std::llround(box.length(a) / spacing) - 1);
+    c.face[a] = std::max<std::int64_t>(
+        0, std::llround(box.length(b) * box.length(d) / (spacing * spacing)) -
+               2 * std::llround((box.length(b) + box.length(d)) / spacing));
+    boundary += 4 * c.edge[a] + 2 * c.face[a];
+  }
+  c.inside = target - boundary;
+  if (c.inside < 1) {
+    std::ostringstream s;
+    s << "random lattice: " << target << " nodes are too few to fill the box (the faces alone "
+      << "take " << boundary << ")";
+    throw InputError(s.str());
+  }
+  return c;
+}
+
+Lattice make_random_lattice(const RandomLatticeSpec& spec) {
+  const Box& box = spec.box;
+  const std::int64_t target = target_node_count(spec);
+  if (target > 200'000'000) throw InputError("random lattice: more than 2e8 nodes requested");
+  const PointCounts counts = point_counts(box, target);
+  const double spacing = counts.spacing;
   const double rmin = spec.min_separation * spacing;
   HardCoreGrid grid(box, std::max(rmin, spacing), rmin);
   std::mt19937_64 rng(spec.seed);
@@ -121,7 +136,7 @@ Lattice make_random_lattice(const RandomLatticeSpec& spec) {
   }
   for (int a = 0; a < 3; ++a) {  // edges parallel to axis a
     const int b = (a + 1) % 3, c = (a + 2) % 3;
-    const auto count = std::max<std::int64_t>(0, std::llround(box.length(a) / spacing) - 1);
+    const std::int64_t count = counts.edge[a];
     for (int s = 0; s < 4; ++s) {
       std::array<int, 3> fixed{1, 1, 1};
       fixed[a] = 0;
@@ -132,11 +147,7 @@ Lattice make_random_lattice(const RandomLatticeSpec& spec) {
     }
   }
   for (int a = 0; a < 3; ++a) {  // faces normal to axis a
-    const int b = (a + 1) % 3, c = (a + 2) % 3;
-    const double area = box.length(b) * box.length(c);
-    const auto count = std::max<std::int64_t>(
-        0, std::llround(area / (spacing * spacing)) -
-               2 * std::llround((box.length(b) + box.length(c)) / spacing));
+    const std::int64_t count = counts.face[a];
     for (int s = 0; s < 2; ++s) {
       std::array<int, 3> fixed{0, 0, 0};
       fixed[a] = 1;
@@ -145,21 +156,14 @@ Lattice make_random_lattice(const RandomLatticeSpec& spec) {
       sprinkle(count, fixed, at, "box faces");
     }
   }
-  const auto inside = target - static_cast<std::int64_t>(points.size());
-  if (inside < 1) {
-    std::ostringstream s;
-    s << "random lattice: " << target << " nodes are too few to fill the box (the faces alone "
-      << "take " << points.size() << ")";
-    throw InputError(s.str());
-  }
-  sprinkle(inside, {0, 0, 0}, Point{}, "inside of the box");
+  sprinkle(counts.inside, {0, 0, 0}, Point{}, "inside of the box");
 
   // Delaunay tetrahedralisation; its edges are the bonds.
-  std::vector<std::pair<Kernel::Point_3, std::int32_t>> input;
+  std::vector<std::pair<DelaunayKernel::Point_3, std::int64_t>> input;
   input.reserve(points.size());
   for (std::size_t i = 0; i < points.size(); ++i)
-    input.emplace_back(Kernel::Point_3(points[i][0], points[i][1], points[i][2]),
-                       static_cast<std::int32_t>(i));
+    input.emplace_back(DelaunayKernel::Point_3(points[i][0], points[i][1], points[i][2]),
+                       static_cast<std::int64_t>(i));
   Delaunay triangulation(input.begin(), input.end());
 
   Lattice lattice;
@@ -167,8 +171,8 @@ Lattice make_random_lattice(const RandomLatticeSpec& spec) {
   lattice.nodes = std::move(points);
   lattice.bonds.reserve(triangulation.number_of_finite_edges());
   for (auto e = triangulation.finite_edges_begin(); e != triangulation.finite_edges_end(); ++e) {
-    std::int32_t i = e->first->vertex(e->second)->info();
-    std::int32_t j = e->first->vertex(e->third)->info();
+    const auto i = static_cast<std::int32_t>(e->first->vertex(e->second)->info());
+    const auto j = static_cast<std::int32_t>(e->first->vertex(e->third)->info());
     lattice.bonds.push_back(Bond{std::min(i, j), std::max(i, j)});
   }
   std::sort(lattice.bonds.begin(), lattice.bonds.end());

@@ -41,6 +41,9 @@ Summary tension_summary(const SetupReport& setup, const DistributedLattice& latt
   sum.add("solve_seconds", solve.solve_seconds, "s");
   sum.add("build_seconds", setup.seconds_build, "s");
   sum.add("partition_seconds", setup.seconds_partition, "s");
+  sum.add("constraints_seconds", setup.seconds_constraints, "s");
+  sum.add("distribute_seconds", setup.seconds_distribute, "s");
+  sum.add("edge_cut", static_cast<long long>(setup.edge_cut));
   int ranks = 1;
   MPI_Comm_size(lattice.comm, &ranks);
   sum.add("mpi_ranks", static_cast<long long>(ranks));

@@ -704,6 +704,12 @@ SampleFile read_sample_file(const std::string& path) {
 
 CementedSample read_sample(const std::string& path) { return read_sample_file(path).sample; }
 
+SampleFile read_sample_description(const std::string& path) {
+  const h5::QuietErrors quiet;
+  const SampleReader r(path);
+  return read_description(r, path);
+}
+
 SampleBlock read_sample_block(MPI_Comm comm, const std::string& path) {
   const h5::QuietErrors quiet;
   int rank = 0, ranks = 1;

@@ -1,6 +1,7 @@
 #include "lem/parallel_setup.hpp"
 
 #include "lem/cell_grid.hpp"
+#include "lem/cell_lattice.hpp"
 #include "lem/collective.hpp"
 #include "lem/error.hpp"
 #include "lem/exact_sum.hpp"
@@ -73,6 +74,47 @@ struct GhostRecord {
   std::uint8_t faces, pad[3];
 };
 
+// This rank's block of node rows: where the parallel set-up starts, from a
+// sample file or from the generator.
+struct NodeBlock {
+  Box box;
+  std::int64_t nodes = 0, node_begin = 0;
+  std::vector<Point> coords;
+  std::vector<double> volume;          // empty: the lattice has none
+  std::vector<std::int32_t> particle;  // empty: the lattice has none
+  bool strengths = true;               // the bonds have breaking forces and phases
+};
+
+// Sums of the lengths of a rank's bonds, to the lattice's statistics.
+struct LengthSums {
+  ExactSum sum, squares;
+  double shortest = std::numeric_limits<double>::infinity(), longest = 0;
+  void add(const Point& p, const Point& q) {
+    const double l = std::sqrt((q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1]) +
+                               (q[2] - p[2]) * (q[2] - p[2]));
+    sum.add(l);
+    squares.add(l * l);
+    shortest = std::min(shortest, l);
+    longest = std::max(longest, l);
+  }
+  /// lattice_stats of the whole lattice.  Collective.
+  LatticeStats stats(MPI_Comm comm, std::int64_t nodes, std::int64_t bonds) const {
+    LatticeStats s;
+    s.nodes = nodes;
+    s.bonds = bonds;
+    if (bonds == 0) return s;
+    const double n = static_cast<double>(bonds);
+    s.mean_length = sum.all_ranks(comm).value() / n;
+    const double mean_square = squares.all_ranks(comm).value() / n;
+    s.std_length = std::sqrt(std::max(0.0, mean_square - s.mean_length * s.mean_length));
+    MPI_Allreduce(&shortest, &s.min_length, 1, MPI_DOUBLE, MPI_MIN, comm);
+    MPI_Allreduce(&longest, &s.max_length, 1, MPI_DOUBLE, MPI_MAX, comm);
+    s.mean_coordination = 2.0 * n / static_cast<double>(s.nodes);
+    s.mesh_density = std::pow(n, -1.0 / 3.0);
+    return s;
+  }
+};
+
 // Steps 1-2: the bonds of this rank's block of rows, checked, with their
 // stiffness, strength and mechanical id; the lattice statistics.
 struct BlockBonds {
@@ -85,36 +127,16 @@ struct BlockBonds {
 BlockBonds mechanical_bonds(MPI_Comm comm, const SampleBlock& block, const SampleOptions& o) {
   const Box& box = block.description.sample.lattice.box;
   // Lengths: statistics of every bond (void ones too).
-  ExactSum length_sum, square_sum;
-  double shortest = std::numeric_limits<double>::infinity(), longest = 0;
-  for (const auto& [p, q] : block.end_coords) {
-    const double l = std::sqrt((q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1]) +
-                               (q[2] - p[2]) * (q[2] - p[2]));
-    length_sum.add(l);
-    square_sum.add(l * l);
-    shortest = std::min(shortest, l);
-    longest = std::max(longest, l);
-  }
+  LengthSums lengths;
+  for (const auto& [p, q] : block.end_coords) lengths.add(p, q);
   BlockBonds out;
-  LatticeStats& s = out.info.stats;
-  s.nodes = block.nodes;
-  s.bonds = block.bonds;
-  if (s.bonds > 0) {
-    const double n = static_cast<double>(s.bonds);
-    s.mean_length = length_sum.all_ranks(comm).value() / n;
-    const double mean_square = square_sum.all_ranks(comm).value() / n;
-    s.std_length = std::sqrt(std::max(0.0, mean_square - s.mean_length * s.mean_length));
-    MPI_Allreduce(&shortest, &s.min_length, 1, MPI_DOUBLE, MPI_MIN, comm);
-    MPI_Allreduce(&longest, &s.max_length, 1, MPI_DOUBLE, MPI_MAX, comm);
-    s.mean_coordination = 2.0 * n / static_cast<double>(s.nodes);
-    s.mesh_density = std::pow(n, -1.0 / 3.0);
-  }
+  const LatticeStats& s = out.info.stats = lengths.stats(comm, block.nodes, block.bonds);
   out.info.cemented = block.description.sample.stats;
 
   // The mechanical lattice: void bonds and bonds of zero stiffness dropped,
   // the others numbered in file order (mechanical_lattice's ids).
   const double a = s.mean_length;
-  ExactSum kept_length;
+  LengthSums kept_length;
   for (std::size_t k = 0; k < block.ends.size(); ++k) {
     const Phase phase = o.homogeneous ? Phase::p : block.bond_phase[k];
     const int code = static_cast<int>(phase);
@@ -133,11 +155,8 @@ BlockBonds mechanical_bonds(MPI_Comm comm, const SampleBlock& block, const Sampl
       r.k *= share;
       r.f *= share;
     }
-    const Point& p = r.xi;
-    const Point& q = r.xj;
-    kept_length.add(std::sqrt((q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1]) +
-                              (q[2] - p[2]) * (q[2] - p[2])));
-    add_affine_bond(out.info.affine, p, q, r.k, box.volume());
+    kept_length.add(r.xi, r.xj);
+    add_affine_bond(out.info.affine, r.xi, r.xj, r.k, box.volume());
     out.bonds.push_back(r);
   }
   const std::int64_t first_id = exclusive_prefix(comm, static_cast<std::int64_t>(out.bonds.size()));
@@ -145,7 +164,7 @@ BlockBonds mechanical_bonds(MPI_Comm comm, const SampleBlock& block, const Sampl
     out.bonds[k].id = first_id + static_cast<std::int64_t>(k);
   out.kept = sum_over(comm, static_cast<std::int64_t>(out.bonds.size()));
   out.mean_kept_length =
-      out.kept > 0 ? kept_length.all_ranks(comm).value() / static_cast<double>(out.kept) : 0.0;
+      out.kept > 0 ? kept_length.sum.all_ranks(comm).value() / static_cast<double>(out.kept) : 0.0;
   MPI_Allreduce(MPI_IN_PLACE, &out.info.affine.C[0][0], 36, MPI_DOUBLE, MPI_SUM, comm);
   finish_affine_moduli(out.info.affine);
   return out;
@@ -155,8 +174,8 @@ BlockBonds mechanical_bonds(MPI_Comm comm, const SampleBlock& block, const Sampl
 // grid of cells (about 8 to 256 nodes each, and 64 cells per rank or more).
 class CellOwners {
  public:
-  CellOwners(MPI_Comm comm, const SampleBlock& block, const std::vector<BondRecord>& bonds)
-      : grid_(block.description.sample.lattice.box, cell_side(comm, block)) {
+  CellOwners(MPI_Comm comm, const NodeBlock& block, const std::vector<BondRecord>& bonds)
+      : grid_(block.box, cell_side(comm, block)) {
     const int ranks = ranks_in(comm);
     const std::size_t cells = grid_.cell_count();
     // Work per cell: its nodes and the ends of its bonds; bonds between
@@ -188,7 +207,7 @@ class CellOwners {
     const std::int64_t filled = std::count_if(weight.begin(), weight.end(),
                                               [](std::int64_t w) { return w > 0; });
     if (filled < ranks)
-      throw InputError("the sample's " + std::to_string(block.nodes) + " nodes fill " +
+      throw InputError("the lattice's " + std::to_string(block.nodes) + " nodes fill " +
                        std::to_string(filled) + " cells of the partition grid, fewer than the " +
                        std::to_string(ranks) + " ranks: run it on fewer ranks");
     std::vector<std::int64_t> xadj(cells + 1, 0), adjncy, adjwgt;
@@ -210,10 +229,10 @@ class CellOwners {
   int owner(const Point& x) const { return part_[grid_.cell_of(x)]; }
 
  private:
-  static double cell_side(MPI_Comm comm, const SampleBlock& block) {
+  static double cell_side(MPI_Comm comm, const NodeBlock& block) {
     const double nodes = static_cast<double>(std::max<std::int64_t>(block.nodes, 1));
     const double per_cell = std::clamp(nodes / (64.0 * ranks_in(comm)), 8.0, 256.0);
-    return std::cbrt(block.description.sample.lattice.box.volume() * per_cell / nodes);
+    return std::cbrt(block.box.volume() * per_cell / nodes);
   }
 
   CellGrid grid_;
@@ -227,11 +246,11 @@ std::uint8_t tension_flags(std::uint8_t faces) {
 }
 
 // Step 4: nodes and bonds at their owners, numbered; ghosts known.
-DistributedLattice distribute(MPI_Comm comm, const SampleBlock& block,
+DistributedLattice distribute(MPI_Comm comm, const NodeBlock& block,
                               const std::vector<BondRecord>& bonds, const CellOwners& owners,
                               std::vector<int>& ghost_owner) {
   const int rank = rank_in(comm);
-  const Box& box = block.description.sample.lattice.box;
+  const Box& box = block.box;
   std::vector<NodeRecord> nodes(block.coords.size());
   std::vector<int> to(nodes.size());
   for (std::size_t k = 0; k < nodes.size(); ++k) {
@@ -239,8 +258,8 @@ DistributedLattice distribute(MPI_Comm comm, const SampleBlock& block,
     r = NodeRecord{};
     r.id = block.node_begin + static_cast<std::int64_t>(k);
     r.x = block.coords[k];
-    r.volume = block.volume[k];
-    r.particle = block.particle[k];
+    r.volume = block.volume.empty() ? 0.0 : block.volume[k];
+    r.particle = block.particle.empty() ? -1 : block.particle[k];
     r.faces = faces_of(r.x, box);
     to[k] = owners.owner(r.x);
   }
@@ -515,30 +534,92 @@ void constrain(DistributedLattice& l, const std::vector<int>& ghost_owner, Setup
 
 }  // namespace
 
-DistributedLattice setup_sample_in_parallel(MPI_Comm comm, const SampleOptions& o,
-                                            SetupReport& report) {
-  LogStageScope stage("Sample setup");
-  double t = MPI_Wtime();
-  const SampleBlock block = read_sample_block(comm, o.sample_file);
-  BlockBonds bonds = mechanical_bonds(comm, block, o);
-  report.sample = bonds.info;
-  report.seconds_build = MPI_Wtime() - t;
+namespace {
 
-  t = MPI_Wtime();
-  const CellOwners owners(comm, block, bonds.bonds);
+// Steps 3-5, from this rank's nodes and bonds.
+DistributedLattice partition_and_constrain(MPI_Comm comm, const NodeBlock& nodes,
+                                           std::vector<BondRecord>& bonds,
+                                           double mean_kept_length, SetupReport& report) {
+  double t = MPI_Wtime();
+  const CellOwners owners(comm, nodes, bonds);
   report.seconds_partition = MPI_Wtime() - t;
 
   t = MPI_Wtime();
   std::vector<int> ghost_owner;
-  DistributedLattice dl = distribute(comm, block, bonds.bonds, owners, ghost_owner);
-  dl.mean_bond_length = bonds.mean_kept_length;
-  bonds.bonds.clear();
-  bonds.bonds.shrink_to_fit();
+  DistributedLattice dl = distribute(comm, nodes, bonds, owners, ghost_owner);
+  dl.mean_bond_length = mean_kept_length;
+  bonds.clear();
+  bonds.shrink_to_fit();
   report.seconds_distribute = MPI_Wtime() - t;
 
   t = MPI_Wtime();
   constrain(dl, ghost_owner, report);
   report.seconds_constraints = MPI_Wtime() - t;
+  // What the lattice does not have, it does not carry.
+  if (nodes.volume.empty()) dl.node_volume.clear();
+  if (nodes.particle.empty()) dl.node_particle.clear();
+  if (!nodes.strengths) dl.bond_strength.clear(), dl.bond_tag.clear();
+  return dl;
+}
+
+}  // namespace
+
+DistributedLattice setup_sample_in_parallel(MPI_Comm comm, const SampleOptions& o,
+                                            SetupReport& report) {
+  LogStageScope stage("Sample setup");
+  const double t = MPI_Wtime();
+  SampleBlock block = read_sample_block(comm, o.sample_file);
+  BlockBonds bonds = mechanical_bonds(comm, block, o);
+  report.sample = bonds.info;
+  NodeBlock nodes;
+  nodes.box = block.description.sample.lattice.box;
+  nodes.nodes = block.nodes;
+  nodes.node_begin = block.node_begin;
+  nodes.coords = std::move(block.coords);
+  nodes.volume = std::move(block.volume);
+  nodes.particle = std::move(block.particle);
+  block = SampleBlock{};
+  report.seconds_build = MPI_Wtime() - t;
+  DistributedLattice dl =
+      partition_and_constrain(comm, nodes, bonds.bonds, bonds.mean_kept_length, report);
+  stage.pop();
+  return dl;
+}
+
+DistributedLattice setup_generated_in_parallel(MPI_Comm comm, const SampleOptions& o,
+                                               SetupReport& report) {
+  LogStageScope stage("Sample setup");
+  const double t = MPI_Wtime();
+  LatticeBlock lattice = make_cell_lattice(comm, o.random);
+  const Box& box = lattice.box;
+  LengthSums lengths;
+  std::vector<BondRecord> bonds(lattice.ends.size());
+  for (std::size_t k = 0; k < bonds.size(); ++k) {
+    BondRecord& r = bonds[k];
+    r = BondRecord{};
+    r.id = lattice.bond_begin + static_cast<std::int64_t>(k);
+    r.i = lattice.ends[k][0];
+    r.j = lattice.ends[k][1];
+    r.xi = lattice.end_coords[k][0];
+    r.xj = lattice.end_coords[k][1];
+    r.k = o.random.stiffness;
+    if (o.halve_face_bonds) r.k *= face_share(faces_of(r.xi, box), faces_of(r.xj, box));
+    lengths.add(r.xi, r.xj);
+    add_affine_bond(report.sample.affine, r.xi, r.xj, r.k, box.volume());
+  }
+  report.sample.stats = lengths.stats(comm, lattice.nodes, lattice.bonds);
+  MPI_Allreduce(MPI_IN_PLACE, &report.sample.affine.C[0][0], 36, MPI_DOUBLE, MPI_SUM, comm);
+  finish_affine_moduli(report.sample.affine);
+  NodeBlock nodes;
+  nodes.box = box;
+  nodes.nodes = lattice.nodes;
+  nodes.node_begin = lattice.node_begin;
+  nodes.coords = std::move(lattice.coords);
+  nodes.strengths = false;
+  lattice = LatticeBlock{};
+  report.seconds_build = MPI_Wtime() - t;
+  DistributedLattice dl =
+      partition_and_constrain(comm, nodes, bonds, report.sample.stats.mean_length, report);
   stage.pop();
   return dl;
 }

@@ -10,7 +10,11 @@
 #include "lem/tension.hpp"
 
 #include <algorithm>
+#include <cstdio>
 #include <cstring>
+#include <fstream>
+#include <string>
+#include <utility>
 
 namespace lem {
 
@@ -19,11 +23,97 @@ namespace {
 // Options that generate a lattice or change it: a sample file fixes both.
 const char* const kGenerationOptions[] = {
     "-lattice_type", "-lattice_box", "-lattice_nodes", "-lattice_bonds", "-lattice_Ln",
-    "-lattice_min_separation", "-lattice_seed", "-lattice_k", "-fcc_cells", "-inclusion_type",
+    "-lattice_min_separation", "-lattice_seed", "-lattice_k", "-lattice_generator", "-fcc_cells",
+    "-inclusion_type",
     "-inclusion_fraction", "-inclusion_radius", "-inclusion_seed", "-inclusion_stiffness_ratio",
     "-inclusion_void_bonds"};
 
+// PETSc numbers the three displacements of every node with PetscInt.
+void check_petsc_indices(std::int64_t nodes) {
+  const auto dofs = 3 * static_cast<std::uint64_t>(nodes);
+  if (dofs > static_cast<std::uint64_t>(PETSC_MAX_INT))
+    throw InputError("the lattice has " + std::to_string(nodes) + " nodes: " +
+                     std::to_string(dofs) + " displacements, more than this PETSc's " +
+                     std::to_string(8 * sizeof(PetscInt)) + "-bit indices can number (" +
+                     std::to_string(PETSC_MAX_INT) + "); build against a PETSc configured "
+                     "with 64-bit indices");
+}
+
+// What a run needs per bond of its lattice, over all its ranks (the solver,
+// its multigrid, the fracture's state: 3.6 GB per rank for 1e7 bonds on 2
+// ranks, measured 2026-11-22, set-up included), and what the serial set-up
+// holds on rank 0 on top of that while it builds and scatters the lattice.
+constexpr double kRunBytesPerBond = 400;
+constexpr double kSerialSetupBytesPerBond = 150;
+
+// MemAvailable of this machine in bytes (0 if unknown).
+double available_memory() {
+  std::ifstream in("/proc/meminfo");
+  std::string key, unit;
+  double kb = 0;
+  while (in >> key >> kb >> unit)
+    if (key == "MemAvailable:") return kb * 1024.0;
+  return 0;
+}
+
+// Counts of the lattice the options describe: from a sample file's
+// attributes (rank 0), or from the generation options.
+std::pair<std::int64_t, std::int64_t> lattice_size(MPI_Comm comm, const SampleOptions& o) {
+  std::int64_t size[2] = {0, 0};
+  if (!o.sample_file.empty()) {
+    run_on_root(comm, [&] {
+      const SampleFile d = read_sample_description(o.sample_file);
+      size[0] = d.sample.stats.nodes;
+      size[1] = d.sample.stats.bonds;
+    });
+    MPI_Bcast(size, 2, MPI_INT64_T, 0, comm);
+  } else if (o.lattice_type == LatticeType::fcc) {
+    std::int64_t sites = 1;
+    for (int c : o.fcc_cells) sites *= 2 * static_cast<std::int64_t>(c) + 1;
+    size[0] = (sites + 1) / 2;
+    size[1] = 6 * size[0];
+  } else {
+    size[0] = target_node_count(o.random);
+    size[1] = (size[0] * 772) / 100;  // at most 7.72 bonds per node (nodes_for_bond_count)
+  }
+  return {size[0], size[1]};
+}
+
 }  // namespace
+
+void check_lattice_fits(MPI_Comm comm, const SampleOptions& o) {
+  const auto [nodes, bonds] = lattice_size(comm, o);
+  check_petsc_indices(nodes);
+  int rank = 0, ranks = 1, on_node = 1, node_rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &ranks);
+  MPI_Comm node = MPI_COMM_NULL;
+  MPI_Comm_split_type(comm, MPI_COMM_TYPE_SHARED, rank, MPI_INFO_NULL, &node);
+  MPI_Comm_size(node, &on_node);
+  MPI_Comm_rank(node, &node_rank);
+  const bool serial = !o.parallel && o.generator == LatticeGenerator::serial;
+  double mine = kRunBytesPerBond * static_cast<double>(bonds) / ranks;
+  if (rank == 0 && serial) mine += kSerialSetupBytesPerBond * static_cast<double>(bonds);
+  double need = 0;
+  MPI_Allreduce(&mine, &need, 1, MPI_DOUBLE, MPI_SUM, node);
+  MPI_Comm_free(&node);
+  run_collectively(comm, [&] {
+    const double available = node_rank == 0 ? available_memory() : 0;
+    if (available > 0 && need > available) {
+      char text[400];
+      std::snprintf(text, sizeof(text),
+                    "the lattice of %lld nodes and %lld bonds needs about %.3g GB on this "
+                    "machine (%d of the job's ranks; an estimate: %.0f bytes per bond over the "
+                    "run%s), but %.3g GB are available: run it on more machines%s",
+                    static_cast<long long>(nodes), static_cast<long long>(bonds), need / 1e9,
+                    on_node, kRunBytesPerBond,
+                    serial ? ", and 150 per bond more on rank 0 for the serial set-up" : "",
+                    available / 1e9,
+                    serial && !o.sample_file.empty() ? " or with -sample_parallel" : "");
+      throw InputError(text);
+    }
+  });
+}
 
 SampleOptions read_sample_options(MPI_Comm comm) {
   SampleOptions o;
@@ -61,6 +151,15 @@ SampleOptions read_sample_options(MPI_Comm comm) {
     for (int a = 0; a < 3; ++a) o.random.box.hi[a] = box[a];
     if (!read_random_lattice_options(g, o.random)) o.random.nodes = 20000;
     o.random.stiffness = g.real("-lattice_k", "Hooke constant k of the bonds", 1.0, 0.0, 1e300, true);
+    o.generator = g.choice<LatticeGenerator>(
+        "-lattice_generator", "How a random lattice is made: serial (on rank 0, then "
+        "scattered: the lattices of earlier versions) or cells (every rank its cells of a grid, "
+        "the same lattice on any rank count, set up in parallel: no rank holds all of it)",
+        {{"serial", LatticeGenerator::serial}, {"cells", LatticeGenerator::cells}},
+        LatticeGenerator::serial);
+    if (o.generator == LatticeGenerator::cells && o.lattice_type != LatticeType::random)
+      throw InputError("option -lattice_generator cells makes random lattices: not with "
+                       "-lattice_type fcc");
     const int cells = static_cast<int>(g.integer("-fcc_cells", "FCC lattice: unit cells per axis",
                                                  4, 1, 400));
     o.fcc_cells = {cells, cells, cells};
@@ -89,6 +188,10 @@ SampleOptions read_sample_options(MPI_Comm comm) {
         "any_end = every bond with an end in a pore, both_ends = only bonds with both ends in "
         "it; any and both are older spellings",
         {{"any_end", false}, {"both_ends", true}, {"any", false}, {"both", true}}, false);
+    if (o.inclusion_type != InclusionType::none && o.generator == LatticeGenerator::cells)
+      throw InputError("option -inclusion_type " +
+                       std::string(o.inclusion_type == InclusionType::stiff ? "stiff" : "pore") +
+                       " needs the whole lattice on one rank: not with -lattice_generator cells");
   }
   return o;
 }
@@ -130,7 +233,9 @@ Lattice build_sample(const SampleOptions& o, SampleInfo& info) {
 
 DistributedLattice setup_sample_lattice(MPI_Comm comm, const SampleOptions& o,
                                         SetupReport& report) {
+  check_lattice_fits(comm, o);
   if (o.parallel) return setup_sample_in_parallel(comm, o, report);
+  if (o.generator == LatticeGenerator::cells) return setup_generated_in_parallel(comm, o, report);
   return setup_tension_lattice(
       comm, [&](SampleInfo& info) { return build_sample(o, info); }, report);
 }
@@ -149,14 +254,7 @@ DistributedLattice setup_tension_lattice(MPI_Comm comm,
     double t = MPI_Wtime();
     lattice = build(report.sample);
     report.seconds_build = MPI_Wtime() - t;
-    // PETSc numbers the three displacements of every node with PetscInt.
-    const auto dofs = 3 * static_cast<std::uint64_t>(lattice.node_count());
-    if (dofs > static_cast<std::uint64_t>(PETSC_MAX_INT))
-      throw InputError("the lattice has " + std::to_string(lattice.node_count()) + " nodes: " +
-                       std::to_string(dofs) + " displacements, more than this PETSc's " +
-                       std::to_string(8 * sizeof(PetscInt)) + "-bit indices can number (" +
-                       std::to_string(PETSC_MAX_INT) + "); build against a PETSc configured "
-                       "with 64-bit indices");
+    check_petsc_indices(static_cast<std::int64_t>(lattice.node_count()));
     t = MPI_Wtime();
     faces = face_flags(lattice);
     constraints = make_tension_constraints(lattice, faces);

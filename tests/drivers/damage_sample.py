@@ -62,6 +62,29 @@ def node_phase(f):
     f["nodes/phase"][NODE] = 7
 
 
+def resize(f, group, rows):
+    """Every dataset of `group` with `rows` rows, chunked and never written:
+    the file stays small whatever the count."""
+    for name in list(f[group]):
+        old = f[group][name]
+        shape, dtype = (rows,) + old.shape[1:], old.dtype
+        del f[group][name]
+        f[group].create_dataset(name, shape=shape, dtype=dtype,
+                                chunks=(min(rows, 65536),) + old.shape[1:])
+
+
+def huge_node_count(f):
+    """2**31 + 1 nodes: more displacements than 32-bit PETSc indices number."""
+    f.attrs["nodes"] = 2 ** 31 + 1
+    resize(f, "nodes", 2 ** 31 + 1)
+
+
+def huge_bond_count(f):
+    """4e9 bonds: more memory than a machine has."""
+    f.attrs["bonds"] = 4 * 10 ** 9
+    resize(f, "bonds", 4 * 10 ** 9)
+
+
 CASES = {
     "nan_coordinate": coordinate(np.nan),
     "inf_coordinate": coordinate(np.inf),
@@ -75,6 +98,8 @@ CASES = {
     "volumes_off": volumes_off,
     "bad_bond_phase": bond_phase,
     "bad_node_phase": node_phase,
+    "huge_node_count": huge_node_count,
+    "huge_bond_count": huge_bond_count,
 }
 
 

@@ -26,7 +26,7 @@ def run_script(name, *args):
 def test_the_scripts_are_there():
     assert [os.path.basename(s) for s in SCRIPTS] == [
         "combine_studies.py", "plot_bridge_geometry.py", "plot_convergence.py", "plot_fracture.py",
-        "plot_stiffness.py", "plot_stress.py", "plot_tension.py", "study.py",
+        "plot_stiffness.py", "plot_stress.py", "plot_tension.py", "scaling.py", "study.py",
         "study_figures.py", "work_split.py"]
 
 
@@ -183,3 +183,34 @@ def test_plot_fracture_refuses_an_unfinished_run(fracture_dir):
     assert done.returncode == 1
     assert "holds no finished result (no manifest.txt" in done.stderr
     assert not os.path.exists(os.path.join(fracture_dir, "fracture.png"))
+
+
+BENCH_LOG = """lattice: 2962 nodes, 21000 bonds (15000 active), {n} ranks, set up in parallel (cells), edge cut {cut}
+balance:  owned nodes max/mean {balance}, bonds held max/mean 1.020; set-up 0.12 s
+peak RSS MB: max 90; per rank after set-up [{rss}], at end [{rss}]
+# MESSAGES columns: ranks,bonds,messages_mean,messages_max,bytes_mean,bytes_max,reductions (per CG iteration and rank)
+MESSAGES,{n},21000,{msgs},{msgs},4000,4100,3.00
+# BENCH columns: ranks,bonds,nodes,gen_s,partition_s,distribute_s,assembly_s,pcsetup_s,solve_s,its,mem_max_MB,stream_GBs,constraints_s,morton,pcsetup_rep_s,solve_rep_s,its_rep,ms_per_it,matmult_ms,matmult_MB,matmult_GBs,it_in_matmults,stream_fraction_matmult
+BENCH,{n},21000,2962,0.1,0.01,0.01,0.002,0.05,0.1,30,90,20,0.01,1,0.04,0.09,31,{ms},0.1,1,10,4,0.5
+"""
+
+
+def test_scaling_table_from_bench_logs(tmp_path):
+    (tmp_path / "np1.log").write_text(BENCH_LOG.format(n=1, cut=0, balance="1.000", rss="80",
+                                                       msgs="0.00", ms="4.000"))
+    (tmp_path / "np2.log").write_text(BENCH_LOG.format(n=2, cut=900, balance="1.040",
+                                                       rss="50, 46", msgs="14.00", ms="2.500"))
+    done = run_script("scaling.py", "table", str(tmp_path))
+    assert done.returncode == 0, done.stderr
+    rows = (tmp_path / "scaling.csv").read_text().splitlines()
+    assert rows[0].startswith("ranks,bonds,setup_s")
+    two = dict(zip(rows[0].split(","), rows[2].split(",")))
+    # 4 ms on 1 rank, 2.5 ms on 2: speed-up 1.6, efficiency 0.8.
+    assert float(two["speedup"]) == pytest.approx(1.6)
+    assert float(two["efficiency"]) == pytest.approx(0.8)
+    assert float(two["memory_max_mb"]) == 50 and float(two["memory_mean_mb"]) == 48
+    assert two["edge_cut"] == "900" and float(two["messages"]) == 14
+    assert done.stdout.count("\n") == 4  # header, rule, two rows
+    (tmp_path / "np4.log").write_text("lattice: 2962 nodes\n")  # a run that failed
+    done = run_script("scaling.py", "table", str(tmp_path))
+    assert done.returncode == 1 and "np4.log is not a complete lem_bench log" in done.stderr
