@@ -26,8 +26,7 @@ user=("$@")
 command -v sbatch > /dev/null || fail "sbatch not found: submit from a Slurm login node"
 mkdir -p "$out/slurm"
 common=(--parsable --chdir="$out/slurm" --output=%x-%j.out --export=ALL,LEM_ROOT="$root")
-bench=()
-[ -z "${LEM_BENCH_OPTIONS:-}" ] || bench=(--bench ${LEM_BENCH_OPTIONS})
+bench=(--bench="${LEM_BENCH_OPTIONS:-}")
 ids=()
 for n in "${counts[@]}"; do
   ids+=("$(sbatch "${common[@]}" --job-name="lem-scaling-$n" --ntasks="$n" "${user[@]}" \

@@ -211,6 +211,10 @@ def test_scaling_table_from_bench_logs(tmp_path):
     assert float(two["memory_max_mb"]) == 50 and float(two["memory_mean_mb"]) == 48
     assert two["edge_cut"] == "900" and float(two["messages"]) == 14
     assert done.stdout.count("\n") == 4  # header, rule, two rows
+    # lem_bench's options pass as one word (they start with a dash).
+    done = run_script("scaling.py", "run", str(tmp_path / "none.h5"), str(tmp_path), "--ranks", "2",
+                      "--bench=-bench_repeat 1")
+    assert done.returncode == 1 and "none.h5 does not exist" in done.stderr, done.stderr
     (tmp_path / "np4.log").write_text("lattice: 2962 nodes\n")  # a run that failed
     done = run_script("scaling.py", "table", str(tmp_path))
     assert done.returncode == 1 and "np4.log is not a complete lem_bench log" in done.stderr

@@ -1,6 +1,6 @@
 """Scaling measurements: lem_bench on one sample file at several rank counts.
 
-  scaling.py run SAMPLE OUT_DIR --ranks N [--bench OPTION ...]
+  scaling.py run SAMPLE OUT_DIR --ranks N [--bench='OPTION ...']
       lem_bench -sample_file SAMPLE -sample_parallel on N ranks (srun inside a
       Slurm allocation, else mpirun; LEM_LAUNCHER, LEM_SRUN, LEM_MPIRUN and
       LEM_BIN as for study.py), its output in OUT_DIR/np<N>.log.
@@ -31,6 +31,7 @@ import csv
 import glob
 import os
 import re
+import shlex
 import subprocess
 
 from . import cli
@@ -71,8 +72,12 @@ def run(args):
         raise ToolError("sample file %s does not exist" % args.sample)
     os.makedirs(args.out_dir, exist_ok=True)
     log = os.path.join(args.out_dir, "np%d.log" % args.ranks)
+    try:
+        extra = shlex.split(args.bench)
+    except ValueError as e:
+        raise ToolError("--bench=%r cannot be split into words: %s" % (args.bench, e))
     cmd = launcher(args.ranks) + [bench_program(), "-sample_file", os.path.abspath(args.sample),
-                                  "-sample_parallel"] + (args.bench or [])
+                                  "-sample_parallel"] + extra
     with open(log, "w") as f:
         f.write("# " + " ".join(cmd) + "\n")
         f.flush()
@@ -194,8 +199,8 @@ def main(argv=None):
     q.add_argument("sample", metavar="SAMPLE")
     q.add_argument("out_dir", metavar="OUT_DIR")
     q.add_argument("--ranks", type=int, required=True)
-    q.add_argument("--bench", nargs="*", metavar="OPTION",
-                   help="more options of lem_bench (e.g. -bench_repeat 1)")
+    q.add_argument("--bench", default="", metavar="'OPTION ...'",
+                   help="more options of lem_bench, as one word: --bench='-bench_repeat 1'")
     q.set_defaults(func=run)
     q = sub.add_parser("table", help="the table of every np<N>.log")
     q.add_argument("out_dir", metavar="OUT_DIR")
