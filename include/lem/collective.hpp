@@ -130,6 +130,13 @@ inline std::string broadcast_string(MPI_Comm comm, const std::string& value, int
   return std::string(chars.begin(), chars.end());
 }
 
+/// The sum of `mine` over the ranks, on every rank.
+inline std::int64_t sum_over_ranks(MPI_Comm comm, std::int64_t mine) {
+  std::int64_t total = 0;
+  MPI_Allreduce(&mine, &total, 1, MPI_INT64_T, MPI_SUM, comm);
+  return total;
+}
+
 /// Root's trivially copyable value on every rank.
 template <class T>
 void broadcast_value(MPI_Comm comm, T& value, int root = 0) {

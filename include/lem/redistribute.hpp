@@ -1,8 +1,7 @@
 // Moving items between ranks by key, for the stages that must not pass
-// through one rank (reading a sample, partitioning, checkpoints at scale):
+// through one rank (reading a sample, partitioning, generating a lattice):
 // each item goes to the rank a key names, in rounds that keep every MPI count
-// and displacement below 2^31 whatever the byte counts; and a directory that
-// says which rank owns an id without any rank holding every id.
+// and displacement below 2^31 whatever the byte counts.
 #pragma once
 
 #include "lem/collective.hpp"
@@ -83,7 +82,7 @@ std::vector<Answer> ask(MPI_Comm comm, const std::vector<Question>& questions,
 
 /// Rows 0 .. total-1 dealt out in contiguous blocks, rank r the rows
 /// [begin(r), begin(r + 1)) with begin(r) = ceil(total r / ranks): how a
-/// file's rows are read, and where the directory keeps an id.
+/// file's rows and a lattice's ids are dealt out.
 struct RowBlocks {
   std::int64_t total = 0;
   int ranks = 1;
@@ -91,26 +90,6 @@ struct RowBlocks {
   std::int64_t begin(int r) const { return (total * r + ranks - 1) / ranks; }
   /// The rank whose block holds `row` (0 <= row < total).
   int rank_of(std::int64_t row) const { return static_cast<int>(row * ranks / total); }
-};
-
-/// Which rank owns each id of [0, total).  Built from every rank's owned ids
-/// (each id owned once); the entry of an id is kept by rank
-/// home(id) = floor(id * ranks / total), so no rank holds more than its share.
-class OwnerDirectory {
- public:
-  /// Collective.
-  OwnerDirectory(MPI_Comm comm, std::int64_t total, const std::vector<std::int64_t>& owned);
-  /// The owner rank of every id of `ids` (ids of [0, total), repeats
-  /// allowed).  Collective.
-  std::vector<int> owners(const std::vector<std::int64_t>& ids) const;
-  /// The rank that keeps the entry of `id`.
-  int home(std::int64_t id) const { return blocks_.rank_of(id); }
-
- private:
-  MPI_Comm comm_;
-  RowBlocks blocks_;
-  std::int64_t first_ = 0;  // this rank keeps [first_, first_ + owner_.size())
-  std::vector<int> owner_;
 };
 
 }  // namespace lem

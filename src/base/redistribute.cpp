@@ -67,37 +67,4 @@ RowBlocks::RowBlocks(std::int64_t total_rows, int rank_count)
                            std::to_string(ranks) + " ranks overflow 64 bits");
 }
 
-namespace {
-int size_of(MPI_Comm comm) {
-  int ranks = 1;
-  MPI_Comm_size(comm, &ranks);
-  return ranks;
-}
-}  // namespace
-
-OwnerDirectory::OwnerDirectory(MPI_Comm comm, std::int64_t total,
-                               const std::vector<std::int64_t>& owned)
-    : comm_(comm), blocks_(total, size_of(comm)) {
-  int rank = 0;
-  MPI_Comm_rank(comm, &rank);
-  first_ = blocks_.begin(rank);
-  owner_.assign(static_cast<std::size_t>(blocks_.begin(rank + 1) - first_), -1);
-  std::vector<int> to(owned.size());
-  for (std::size_t k = 0; k < owned.size(); ++k) {
-    if (owned[k] < 0 || owned[k] >= total)
-      throw std::logic_error("OwnerDirectory: id " + std::to_string(owned[k]) +
-                             " outside [0, " + std::to_string(total) + ")");
-    to[k] = home(owned[k]);
-  }
-  std::vector<int> from;
-  const std::vector<std::int64_t> mine = route(comm, owned, to, &from);
-  for (std::size_t k = 0; k < mine.size(); ++k) owner_[mine[k] - first_] = from[k];
-}
-
-std::vector<int> OwnerDirectory::owners(const std::vector<std::int64_t>& ids) const {
-  std::vector<int> to(ids.size());
-  for (std::size_t k = 0; k < ids.size(); ++k) to[k] = home(ids[k]);
-  return ask<int>(comm_, ids, to, [&](std::int64_t id) { return owner_[id - first_]; });
-}
-
 }  // namespace lem

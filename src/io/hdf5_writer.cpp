@@ -54,12 +54,6 @@ int comm_rank(MPI_Comm comm) {
   return rank;
 }
 
-std::int64_t sum_all(MPI_Comm comm, std::int64_t local) {
-  std::int64_t total = 0;
-  MPI_Allreduce(&local, &total, 1, MPI_INT64_T, MPI_SUM, comm);
-  return total;
-}
-
 /// Sum of `local` over the ranks below this one (0 on rank 0).
 std::int64_t exclusive_prefix_sum(MPI_Comm comm, std::int64_t local) {
   std::int64_t prefix = 0;
@@ -509,9 +503,9 @@ void write_lattice_fields(MPI_Comm comm, const std::string& stem, const NodeSlic
 
   // 5. Global sizes and this rank's offsets.
   GlobalLayout layout;
-  layout.nodes = sum_all(comm, static_cast<std::int64_t>(local_nodes));
+  layout.nodes = sum_over_ranks(comm, static_cast<std::int64_t>(local_nodes));
   layout.node_offset = exclusive_prefix_sum(comm, static_cast<std::int64_t>(local_nodes));
-  layout.bonds = sum_all(comm, static_cast<std::int64_t>(local_bonds));
+  layout.bonds = sum_over_ranks(comm, static_cast<std::int64_t>(local_bonds));
   layout.bond_offset = exclusive_prefix_sum(comm, static_cast<std::int64_t>(local_bonds));
   for (const auto& ends : bonds.ends) {
     for (std::int64_t end : ends) {
