@@ -4,14 +4,15 @@
 //   lem_sample -sample_particles 516 -lattice_bonds 1300000 -matrix_fraction 0.13
 //   lem_sample -sample_particles 64 -output_dir meshes -output_stem tiny
 //
-// The sample is built serially on rank 0; other ranks only take part in the
-// option handling and the error report.
+// With -lattice_generator serial (the default) the sample is built on rank 0;
+// with cells every rank builds and writes its share (lem/parallel_sample.hpp).
 #include "lem/cemented_sample.hpp"
 #include "lem/driver.hpp"
 #include "lem/error.hpp"
 #include "lem/files.hpp"
 #include "lem/hdf5_writer.hpp"
 #include "lem/options.hpp"
+#include "lem/parallel_sample.hpp"
 #include "lem/sample_file.hpp"
 #include "lem/sample_options.hpp"
 #include "lem/summary.hpp"
@@ -22,7 +23,8 @@ static const char help[] =
     "Cemented granular sample (Affes et al., EPJE 35, 2012, sect. 2.2-2.3):\n"
     "  1. a jammed periodic packing of polydisperse spheres (-pack_*),\n"
     "  2. a cube holding -sample_particles sphere centres (spheres reaching in are kept),\n"
-    "  3. a random Delaunay lattice in the cube (-lattice_*) and its clipped Voronoi volumes,\n"
+    "  3. a random Delaunay lattice in the cube (-lattice_*) and its clipped Voronoi volumes\n"
+    "     (-lattice_generator cells: every rank builds and writes its share of steps 3-5),\n"
     "  4. matrix bridges between near particles (-matrix_*), calibrated so that the matrix\n"
     "     volume measured on the lattice is -matrix_fraction,\n"
     "  5. node phases (particle/matrix/void) and bond phases (p, m, v, pp, pm).\n"
@@ -57,6 +59,8 @@ lem::Summary sample_summary(const lem::CementedSampleStats& st, const lem::Cemen
   sum.add("packing_seed", static_cast<long long>(spec.packing.seed));
   sum.add("packing_particles", static_cast<long long>(spec.packing.count));
   sum.add("lattice_seed", static_cast<long long>(spec.lattice.seed));
+  sum.add("lattice_generator",
+          std::string(spec.generator == lem::LatticeGenerator::cells ? "cells" : "serial"));
   sum.add("matrix_max_gap", spec.bridges.max_gap / spec.packing.d_min, "d_min");
   sum.add("void_bonds", std::string(lem::void_rule_name(spec.bridges.void_bonds)));
   sum.add("seconds_packing", st.packing_seconds, "s");
@@ -108,24 +112,43 @@ int main(int argc, char** argv) {
     lem::validate(spec.packing);
     const auto provenance = lem::collect_provenance(comm, "lem_sample");
 
-    lem::CementedSample sample;
+    lem::say("packing %lld spheres (seed %llu), cube of %lld centres, lattice seed %llu (%s "
+             "generator), matrix fraction %g\n",
+             (long long)spec.packing.count, (unsigned long long)spec.packing.seed,
+             (long long)spec.sample_particles, (unsigned long long)spec.lattice.seed,
+             spec.generator == lem::LatticeGenerator::cells ? "cells" : "serial",
+             spec.bridges.matrix_fraction);
+    const std::string path = dir + "/" + stem;
+    const auto prepare = [&] {  // only once the sample is made: a failure keeps older results
+      lem::prepare_output_dir(comm, dir, {stem + ".h5", stem + ".xmf", stem + "_nodes.xmf",
+                                          stem + "_particles.xmf", summary_stem + ".json",
+                                          summary_stem + ".csv"});
+    };
+    lem::CementedSampleStats stats;
+    if (spec.generator == lem::LatticeGenerator::cells) {
+      lem::SampleBlock block = lem::build_cemented_sample_block(comm, spec);
+      stats = block.description.sample.stats;
+      report(stats, spec);
+      prepare();
+      block.description.provenance = provenance;
+      lem::write_sample_block(comm, path, block);
+    } else {
+      lem::CementedSample sample;
+      lem::run_on_root(comm, [&] {
+        sample = lem::build_cemented_sample(spec);
+        stats = sample.stats;
+        report(stats, spec);
+      });
+      prepare();
+      lem::run_on_root(comm, [&] { lem::write_sample(path, sample, spec, provenance); });
+    }
+    const lem::PeakMemory memory = lem::peak_memory(comm);
+    lem::say("peak memory per rank %.0f MB (largest), %.0f MB (mean)\n", memory.max_mb,
+             memory.mean_mb);
     lem::run_on_root(comm, [&] {
-      lem::say("packing %lld spheres (seed %llu), cube of %lld centres, lattice seed %llu, "
-               "matrix fraction %g\n",
-               (long long)spec.packing.count, (unsigned long long)spec.packing.seed,
-               (long long)spec.sample_particles, (unsigned long long)spec.lattice.seed,
-               spec.bridges.matrix_fraction);
-      sample = lem::build_cemented_sample(spec);
-      report(sample.stats, spec);
-    });
-    // Only once the sample is made: a failure keeps older results.
-    lem::prepare_output_dir(comm, dir, {stem + ".h5", stem + ".xmf", stem + "_nodes.xmf",
-                                        stem + "_particles.xmf", summary_stem + ".json",
-                                        summary_stem + ".csv"});
-    lem::run_on_root(comm, [&] {
-      const std::string path = dir + "/" + stem;
-      lem::write_sample(path, sample, spec, provenance);
-      lem::Summary summary = sample_summary(sample.stats, spec, path + ".h5");
+      lem::Summary summary = sample_summary(stats, spec, path + ".h5");
+      summary.add("peak_memory_mb", memory.max_mb, "MB");
+      summary.add("peak_memory_mean_mb", memory.mean_mb, "MB");
       summary.add_provenance(provenance);
       summary.write(dir + "/" + summary_stem);
     });

@@ -93,6 +93,9 @@ int main(int argc, char** argv) {
                               "dense packing)");
     if (fractions.size() < 2)
       throw lem::InputError("option -stiffness_fractions: give at least two fractions for the fits");
+    if (spec.generator != lem::LatticeGenerator::serial)
+      throw lem::InputError("option -lattice_generator cells: lem_stiffness builds its samples "
+                            "on one rank, with -lattice_generator serial only");
     const lem::SolverOptions solver = lem::read_solver_options(comm);
     lem::check_option_names(comm);
     const auto provenance = lem::collect_provenance(comm, "lem_stiffness");

@@ -72,7 +72,7 @@ set(LEM_TEST_GROUPS
   "^signal_:signals"
   "^fracture_warnings_:warnings"
   "^fracture_:fracture"
-  "^(tension_|sample_driver$|stiffness_driver|results_readers$|study_):drivers"
+  "^(tension_|sample_driver$|sample_driver_cells$|stiffness_driver|results_readers$|study_):drivers"
   "^(layering|phase_names):layout")
 
 function(lem_label_tests)

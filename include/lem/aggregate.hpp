@@ -93,6 +93,10 @@ class AggregateGeometry {
 /// pores making bonds void by `rule`.
 Phase bond_phase(const NodePhases& nodes, std::int32_t a, std::int32_t b,
                  VoidRule rule = VoidRule::any_end);
+/// The same from the classification of its two ends (particle index or -1,
+/// and the matrix flag of each).
+Phase bond_phase(std::int32_t particle_a, bool matrix_a, std::int32_t particle_b, bool matrix_b,
+                 VoidRule rule);
 
 /// Result of sizing the bridges for a requested matrix fraction.
 struct MatrixCalibration {

@@ -30,6 +30,9 @@ struct CementedSampleSpec {
   PackingSpec packing;               // the periodic packing to cut from
   std::int64_t sample_particles = 516;  // sphere centres in the cube (>= 8)
   RandomLatticeSpec lattice;         // box is set to the cube; size by bonds, nodes or L_n
+  /// serial: built on one rank (build_cemented_sample); cells: by every rank
+  /// for its block (build_cemented_sample_block, lem/parallel_sample.hpp).
+  LatticeGenerator generator = LatticeGenerator::serial;
   BridgeSpec bridges;
 };
 

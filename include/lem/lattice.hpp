@@ -53,6 +53,10 @@ LatticeStats lattice_stats(const Lattice& lattice);
 
 /// Size of a random lattice: exactly one of the three is used, in this order
 /// of precedence: nodes, bonds, mesh density L_n = M^(-1/3).
+/// How a random lattice is made: serial (make_random_lattice, on one rank)
+/// or cells (make_cell_lattice, by every rank for its cells of a grid).
+enum class LatticeGenerator { serial, cells };
+
 struct RandomLatticeSpec {
   Box box;
   std::int64_t nodes = 0;

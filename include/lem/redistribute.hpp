@@ -15,29 +15,34 @@
 
 namespace lem {
 
-/// The bytes a rank may send in one round of all_to_all_bytes (all
-/// destinations together), and receive.
+/// The bytes a rank may send in one round of move_bytes (all destinations
+/// together), and receive.
 inline constexpr std::uint64_t kRoundBytes = std::uint64_t(1) << 30;
 
+/// How many bytes this rank receives from each rank (`[s]` from rank s),
+/// when every rank sends `counts[d]` bytes to rank d.  Collective.
+std::vector<std::uint64_t> exchange_counts(MPI_Comm comm, const std::vector<std::uint64_t>& counts);
+
 /// `send` holds the bytes for rank 0, then those for rank 1, ... (`counts[d]`
-/// for rank d).  Returns the bytes received, those from rank 0 first;
-/// `received[s]` gets how many came from rank s.  Collective.  The exchange
-/// goes in rounds of at most `round_bytes` per rank (tests lower it).
-std::vector<char> all_to_all_bytes(MPI_Comm comm, const std::vector<char>& send,
-                                   const std::vector<std::uint64_t>& counts,
-                                   std::vector<std::uint64_t>& received,
-                                   std::uint64_t round_bytes = kRoundBytes);
+/// for rank d); `receive` gets those from rank 0 first (`received[s]` from
+/// rank s, as exchange_counts gave).  Collective.  The exchange goes in
+/// rounds of at most `round_bytes` per rank (tests lower it); when one round
+/// is enough the bytes go from `send` to `receive` without a copy.
+void move_bytes(MPI_Comm comm, const char* send, const std::vector<std::uint64_t>& counts,
+                char* receive, const std::vector<std::uint64_t>& received,
+                std::uint64_t round_bytes = kRoundBytes);
 
 /// Item k to rank `to[k]`.  Returns the items this rank received, ordered by
 /// source rank and, from one source, in the source's order; `from` (if given)
-/// gets each one's source rank.  Collective.
+/// gets each one's source rank.  Collective.  Holds the items twice besides
+/// `items` (sorted by destination, and received).
 template <class T>
 std::vector<T> route(MPI_Comm comm, const std::vector<T>& items, const std::vector<int>& to,
                      std::vector<int>* from = nullptr, std::uint64_t round_bytes = kRoundBytes) {
   static_assert(std::is_trivially_copyable_v<T>);
   int ranks = 1;
   MPI_Comm_size(comm, &ranks);
-  std::vector<std::uint64_t> counts(ranks, 0), at(ranks + 1, 0), received;
+  std::vector<std::uint64_t> counts(ranks, 0), at(ranks + 1, 0);
   for (const int d : to) counts[d] += sizeof(T);
   for (int d = 0; d < ranks; ++d) at[d + 1] = at[d] + counts[d];
   std::vector<char> send(at[ranks]);
@@ -45,9 +50,12 @@ std::vector<T> route(MPI_Comm comm, const std::vector<T>& items, const std::vect
     std::memcpy(send.data() + at[to[k]], &items[k], sizeof(T));
     at[to[k]] += sizeof(T);
   }
-  const std::vector<char> bytes = all_to_all_bytes(comm, send, counts, received, round_bytes);
-  std::vector<T> out(bytes.size() / sizeof(T));
-  if (!out.empty()) std::memcpy(out.data(), bytes.data(), bytes.size());
+  const std::vector<std::uint64_t> received = exchange_counts(comm, counts);
+  std::uint64_t bytes = 0;
+  for (const std::uint64_t n : received) bytes += n;
+  std::vector<T> out(bytes / sizeof(T));
+  move_bytes(comm, send.data(), counts, reinterpret_cast<char*>(out.data()), received,
+             round_bytes);
   if (from) {
     from->clear();
     for (int s = 0; s < ranks; ++s) from->insert(from->end(), received[s] / sizeof(T), s);

@@ -61,8 +61,8 @@ CementedSample read_sample(const std::string& path);
 /// a sample before it is read.  Its lattice holds only the box.
 SampleFile read_sample_description(const std::string& path);
 
-/// One rank's share of a sample file: a block of its node rows and a block
-/// of its bond rows (lem::RowBlocks over the ranks), and the rest whole.
+/// One rank's share of a sample: a block of its node rows and a block of its
+/// bond rows (lem::RowBlocks over the ranks), and the rest whole.
 struct SampleBlock {
   /// The attributes, particles, bridges and provenance; its lattice holds
   /// only the box (no nodes, no bonds).
@@ -77,6 +77,14 @@ struct SampleBlock {
   std::vector<std::array<Point, 2>> end_coords;     // the positions of those ends
   std::vector<Phase> bond_phase;
 };
+
+/// Collective: every rank writes its blocks of `sample` (the particles and
+/// bridges from rank 0) to <stem>.h5 through parallel HDF5, under a temporary
+/// name renamed into place when complete, then rank 0 the three .xmf files.
+/// The same file as write_sample's for the same content, on any rank count
+/// (datasets and attributes; the compression may lay the chunks out
+/// differently).  Throws the same IoError on every rank if it cannot be written.
+void write_sample_block(MPI_Comm comm, const std::string& stem, const SampleBlock& sample);
 
 /// Collective: every rank reads its blocks through parallel HDF5, with the
 /// checks of read_sample_file (the positions of its bonds' ends and the

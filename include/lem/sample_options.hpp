@@ -46,6 +46,9 @@ PhaseTable read_phase_table(MPI_Comm comm);
 /// sizes are then 0 and the caller picks its default).
 bool read_random_lattice_options(OptionGroup& group, RandomLatticeSpec& spec);
 
+/// -lattice_generator (serial or cells), within the caller's option group.
+LatticeGenerator read_lattice_generator(OptionGroup& group);
+
 /// -lattice_face_bonds (whole or halved), within the caller's option group:
 /// true if the bonds lying in the box faces are to be halved
 /// (halve_face_bonds) in random and sample lattices.

@@ -19,7 +19,6 @@ namespace lem {
 /// the bond moduli of -phase_*), which excludes the generation options.
 enum class LatticeType { random, fcc, sample /* set by -sample_file */ };
 enum class InclusionType { none, stiff, pore };
-enum class LatticeGenerator { serial, cells };
 
 struct SampleOptions {
   LatticeType lattice_type = LatticeType::random;

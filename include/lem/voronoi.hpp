@@ -10,6 +10,7 @@
 
 #include "lem/lattice.hpp"
 
+#include <memory>
 #include <vector>
 
 namespace lem {
@@ -19,6 +20,22 @@ namespace lem {
 /// Throws InputError if a neighbour coincides with the node.
 double clipped_cell_volume(const Box& box, const Point& node,
                            const std::vector<Point>& neighbours);
+
+/// clipped_cell_volume for many nodes of one box, one after the other,
+/// reusing its work space (the cells of a million nodes without a million
+/// allocations).
+class ClippedCells {
+ public:
+  explicit ClippedCells(const Box& box);
+  ~ClippedCells();
+  ClippedCells(const ClippedCells&) = delete;
+  ClippedCells& operator=(const ClippedCells&) = delete;
+  double volume(const Point& node, const std::vector<Point>& neighbours);
+
+ private:
+  struct Work;
+  std::unique_ptr<Work> work_;
+};
 
 /// Box-clipped Voronoi volume of every node, using every bond of the lattice
 /// (whatever its stiffness) as a Voronoi-neighbour candidate.  Exact for

@@ -7,24 +7,24 @@
 
 namespace lem {
 
-std::vector<char> all_to_all_bytes(MPI_Comm comm, const std::vector<char>& send,
-                                   const std::vector<std::uint64_t>& counts,
-                                   std::vector<std::uint64_t>& received,
-                                   std::uint64_t round_bytes) {
+std::vector<std::uint64_t> exchange_counts(MPI_Comm comm, const std::vector<std::uint64_t>& counts) {
   int ranks = 1;
   MPI_Comm_size(comm, &ranks);
-  received.assign(ranks, 0);
+  std::vector<std::uint64_t> received(ranks, 0);
   MPI_Alltoall(counts.data(), 1, MPI_UINT64_T, received.data(), 1, MPI_UINT64_T, comm);
+  return received;
+}
+
+void move_bytes(MPI_Comm comm, const char* send, const std::vector<std::uint64_t>& counts,
+                char* receive, const std::vector<std::uint64_t>& received,
+                std::uint64_t round_bytes) {
+  int ranks = 1;
+  MPI_Comm_size(comm, &ranks);
   std::vector<std::uint64_t> send_at(ranks + 1, 0), receive_at(ranks + 1, 0);
   for (int r = 0; r < ranks; ++r) {
     send_at[r + 1] = send_at[r] + counts[r];
     receive_at[r + 1] = receive_at[r] + received[r];
   }
-  if (send_at[ranks] != send.size())
-    throw std::logic_error("all_to_all_bytes: " + std::to_string(send.size()) +
-                           " bytes to send, but the counts add up to " +
-                           std::to_string(send_at[ranks]));
-  std::vector<char> out(receive_at[ranks]);
   // Each round moves at most `pair` bytes between any two ranks, so that a
   // rank's total per round (its counts and displacements) stays an int.
   const std::uint64_t pair = std::max<std::uint64_t>(
@@ -46,17 +46,20 @@ std::vector<char> all_to_all_bytes(MPI_Comm comm, const std::vector<char>& send,
       receive_n[r] = slice(received[r]), receive_d[r] = receive_total,
       receive_total += receive_n[r];
     }
+    if (rounds == 1) {  // the slices are the whole buffers, laid out alike
+      MPI_Alltoallv(send, send_n.data(), send_d.data(), MPI_BYTE, receive, receive_n.data(),
+                    receive_d.data(), MPI_BYTE, comm);
+      return;
+    }
     out_round.resize(static_cast<std::size_t>(send_total));
     in_round.resize(static_cast<std::size_t>(receive_total));
     for (int r = 0; r < ranks; ++r)
-      std::copy_n(send.data() + send_at[r] + k * pair, send_n[r], out_round.data() + send_d[r]);
+      std::copy_n(send + send_at[r] + k * pair, send_n[r], out_round.data() + send_d[r]);
     MPI_Alltoallv(out_round.data(), send_n.data(), send_d.data(), MPI_BYTE, in_round.data(),
                   receive_n.data(), receive_d.data(), MPI_BYTE, comm);
     for (int r = 0; r < ranks; ++r)
-      std::copy_n(in_round.data() + receive_d[r], receive_n[r],
-                  out.data() + receive_at[r] + k * pair);
+      std::copy_n(in_round.data() + receive_d[r], receive_n[r], receive + receive_at[r] + k * pair);
   }
-  return out;
 }
 
 RowBlocks::RowBlocks(std::int64_t total_rows, int rank_count)

@@ -29,6 +29,7 @@
 #include "lem/error.hpp"
 #include "lem/files.hpp"
 #include "lem/hdf5_util.hpp"
+#include "lem/parallel_hdf5.hpp"
 #include "lem/options.hpp"
 #include "lem/write_watch.hpp"
 
@@ -54,14 +55,6 @@ int comm_rank(MPI_Comm comm) {
   return rank;
 }
 
-/// Sum of `local` over the ranks below this one (0 on rank 0).
-std::int64_t exclusive_prefix_sum(MPI_Comm comm, std::int64_t local) {
-  std::int64_t prefix = 0;
-  MPI_Exscan(&local, &prefix, 1, MPI_INT64_T, MPI_SUM, comm);
-  if (comm_rank(comm) == 0) prefix = 0;  // MPI_Exscan leaves rank 0's result undefined
-  return prefix;
-}
-
 // ---------------------------------------------------------------------------
 // Collective errors
 // ---------------------------------------------------------------------------
@@ -79,35 +72,6 @@ struct LocalError {
 
 /// If any rank holds an error, every rank throws the error of the lowest such rank.
 void raise_collectively(MPI_Comm comm, const LocalError& error) { agree_on_error(comm, error.first); }
-
-/// Run `work` on every rank; if it fails (returns false or throws) anywhere,
-/// every rank throws IoError("<what>: <why>") of the lowest failing rank.
-/// The failure is noted in the write's watch first: the library may hold
-/// some rank in its own collective calls from here on (closing the file).
-void collective_step(MPI_Comm comm, const std::string& what, const std::function<bool()>& work) {
-  try {
-    run_collectively(comm, [&] {
-      bool ok = false;
-      try {
-        ok = work();
-      } catch (const std::exception&) {
-        ok = false;
-      }
-      if (ok) return;
-      std::string why = WriteWatch::first_error();  // MPI-IO's, the most telling
-      if (why.empty()) {
-        why = h5::error_text();
-        why = (why.empty() ? "HDF5 reported an error" : why) + WriteWatch::space_left();
-      }
-      const std::string message = what + ": " + why;
-      WriteWatch::note_error(message);
-      throw IoError(message);
-    });
-  } catch (const std::exception& e) {
-    WriteWatch::note_error(e.what());
-    throw;
-  }
-}
 
 // ---------------------------------------------------------------------------
 // Input validation
@@ -168,95 +132,6 @@ void check_fields(const std::vector<Field>& fields, std::size_t items, const cha
 // HDF5 writing
 // ---------------------------------------------------------------------------
 
-/// Describes one dataset slice: rows [offset, offset + local_rows) of a
-/// (global_rows x columns) array; columns == 0 means a 1-D dataset.
-struct Slab {
-  hsize_t global_rows = 0;
-  hsize_t offset = 0;
-  hsize_t local_rows = 0;
-  hsize_t columns = 0;
-};
-
-// Datasets of at least this many values are compressed: below it the
-// chunk index costs more than deflate saves.
-constexpr hsize_t kCompressFrom = 4096;
-constexpr hsize_t kChunkRows = 65536;
-constexpr unsigned kDeflateLevel = 4;  // most of level 9's gain at a fraction of its time
-
-bool deflate_available() {
-  unsigned config = 0;
-  return H5Zfilter_avail(H5Z_FILTER_DEFLATE) > 0 &&
-         H5Zget_filter_info(H5Z_FILTER_DEFLATE, &config) >= 0 &&
-         (config & H5Z_FILTER_CONFIG_ENCODE_ENABLED) != 0;
-}
-
-bool compressed(const Slab& slab) {
-  static const bool available = deflate_available();
-  return available && slab.global_rows * std::max<hsize_t>(slab.columns, 1) >= kCompressFrom;
-}
-
-/// Collective: create `group/name` and write this rank's rows into it.
-void write_dataset(MPI_Comm comm, hid_t group, const std::string& path, const std::string& name,
-                   hid_t file_type, hid_t memory_type, const Slab& slab, const void* data,
-                   hid_t transfer, const std::string& file_name) {
-  const int rank = slab.columns == 0 ? 1 : 2;
-  const hsize_t global_dims[2] = {slab.global_rows, slab.columns};
-  Handle file_space;
-  Handle memory_space;
-  Handle dataset;
-  Handle create_plist;
-
-  collective_step(comm, "HDF5: cannot create dataset " + path + " in '" + file_name + "'", [&] {
-    file_space = Handle(H5Screate_simple(rank, global_dims, nullptr), H5Sclose);
-    if (!file_space.valid()) return false;
-    create_plist = Handle(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
-    if (!create_plist.valid()) return false;
-    // Every element is written below, so fill values would be wasted I/O.
-    if (H5Pset_fill_time(create_plist.get(), H5D_FILL_TIME_NEVER) < 0) return false;
-    if (compressed(slab)) {
-      // Parallel HDF5 (1.10.2 on) writes filtered datasets collectively;
-      // byte shuffling first makes integers and smooth doubles shrink far more.
-      const hsize_t chunk[2] = {std::min<hsize_t>(slab.global_rows, kChunkRows),
-                                slab.columns == 0 ? 1 : slab.columns};
-      if (H5Pset_chunk(create_plist.get(), rank, chunk) < 0 ||
-          H5Pset_shuffle(create_plist.get()) < 0 ||
-          H5Pset_deflate(create_plist.get(), kDeflateLevel) < 0)
-        return false;
-    }
-    dataset = Handle(H5Dcreate2(group, name.c_str(), file_type, file_space.get(), H5P_DEFAULT,
-                                create_plist.get(), H5P_DEFAULT),
-                     H5Dclose);
-    if (!dataset.valid()) return false;
-    if (slab.local_rows > 0) {
-      const hsize_t start[2] = {slab.offset, 0};
-      const hsize_t count[2] = {slab.local_rows, slab.columns};
-      if (H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, start, nullptr, count, nullptr) < 0)
-        return false;
-      memory_space = Handle(H5Screate_simple(rank, count, nullptr), H5Sclose);
-      if (!memory_space.valid()) return false;
-    } else {
-      // This rank owns nothing but still takes part in the collective write.
-      const hsize_t one[2] = {1, slab.columns == 0 ? 1 : slab.columns};
-      memory_space = Handle(H5Screate_simple(rank, one, nullptr), H5Sclose);
-      if (!memory_space.valid()) return false;
-      if (H5Sselect_none(memory_space.get()) < 0) return false;
-      if (H5Sselect_none(file_space.get()) < 0) return false;
-    }
-    return true;
-  });
-
-  if (slab.global_rows == 0) return;  // nothing to write on any rank
-
-  collective_step(comm, "HDF5: cannot write dataset " + path + " in '" + file_name + "'", [&] {
-    const double dummy = 0.0;  // never read: the selection is empty
-    const void* buffer = slab.local_rows > 0 ? data : static_cast<const void*>(&dummy);
-    return H5Dwrite(dataset.get(), memory_type, memory_space.get(), file_space.get(), transfer,
-                    buffer) >= 0;
-  });
-  collective_step(comm, "HDF5: cannot close dataset " + path + " in '" + file_name + "'",
-                  [&] { return dataset.close(); });
-}
-
 struct GlobalLayout {
   std::int64_t nodes = 0;        // global node count
   std::int64_t node_offset = 0;  // first node row of this rank
@@ -269,95 +144,51 @@ void write_hdf5(MPI_Comm comm, const std::string& path, const NodeSlice& nodes,
                 const BondSlice& bonds, const GlobalLayout& layout, const Provenance& provenance,
                 const std::vector<std::pair<std::string, double>>& scalars) {
   const auto h = [](std::int64_t v) { return static_cast<hsize_t>(v); };
-  const std::string label = "'" + path + "'";
-
-  Handle access;
-  Handle file;
-  collective_step(comm, "HDF5: cannot set up parallel file access for " + label, [&] {
-    access = Handle(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
-    if (!access.valid()) return false;
-    if (H5Pset_fapl_mpio(access.get(), comm, MPI_INFO_NULL) < 0) return false;
-    // All ranks perform identical metadata operations, so they may write
-    // metadata collectively (far fewer small writes at scale).
-    return H5Pset_coll_metadata_write(access.get(), true) >= 0;
-  });
-  collective_step(comm, "HDF5: cannot create file " + label, [&] {
-    file = Handle(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access.get()), H5Fclose);
-    return file.valid();
-  });
-
-  Handle transfer;
-  Handle node_group;
-  Handle bond_group;
-  collective_step(comm, "HDF5: cannot create groups /nodes and /bonds in " + label, [&] {
-    transfer = Handle(H5Pcreate(H5P_DATASET_XFER), H5Pclose);
-    if (!transfer.valid()) return false;
-    if (H5Pset_dxpl_mpio(transfer.get(), H5FD_MPIO_COLLECTIVE) < 0) return false;
-    node_group = Handle(H5Gcreate2(file.get(), "nodes", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
-    bond_group = Handle(H5Gcreate2(file.get(), "bonds", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
-    return node_group.valid() && bond_group.valid();
-  });
+  ParallelHdf5File file(comm, path);
+  const hid_t node_group = file.group("nodes");
+  const hid_t bond_group = file.group("bonds");
 
   fault_stall(comm, path);
   const hsize_t local_nodes = static_cast<hsize_t>(nodes.coords.size());
   const hsize_t local_bonds = static_cast<hsize_t>(bonds.ends.size());
   const Slab node_rows{h(layout.nodes), h(layout.node_offset), local_nodes, 0};
   const Slab bond_rows{h(layout.bonds), h(layout.bond_offset), local_bonds, 0};
-  const auto with_columns = [](Slab s, hsize_t columns) {
-    s.columns = columns;
-    return s;
-  };
 
-  write_dataset(comm, node_group.get(), "/nodes/coordinates", "coordinates", H5T_IEEE_F64LE,
-                H5T_NATIVE_DOUBLE, with_columns(node_rows, 3), nodes.coords.data(), transfer.get(),
-                path);
-  write_dataset(comm, node_group.get(), "/nodes/id", "id", H5T_STD_I64LE, H5T_NATIVE_INT64,
-                node_rows, nodes.ids.data(), transfer.get(), path);
+  file.dataset(node_group, "/nodes/coordinates", "coordinates", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE,
+               node_rows.with_columns(3), nodes.coords.data());
+  file.dataset(node_group, "/nodes/id", "id", H5T_STD_I64LE, H5T_NATIVE_INT64, node_rows,
+               nodes.ids.data());
   const std::vector<std::int64_t> vertices =
       h5::XdmfText::vertex_rows(layout.node_offset, static_cast<std::int64_t>(local_nodes));
-  write_dataset(comm, node_group.get(), "/nodes/vertices", "vertices", H5T_STD_I64LE,
-                H5T_NATIVE_INT64, with_columns(node_rows, 1), vertices.data(), transfer.get(),
-                path);
+  file.dataset(node_group, "/nodes/vertices", "vertices", H5T_STD_I64LE, H5T_NATIVE_INT64,
+               node_rows.with_columns(1), vertices.data());
   const auto write_field = [&](hid_t group, const char* group_name, const Field& f,
                                const Slab& rows) {
-    const Slab slab = f.components == 1 ? rows : with_columns(rows, f.components);
+    const Slab slab = f.components == 1 ? rows : rows.with_columns(f.components);
     const std::string dataset = std::string("/") + group_name + "/" + f.name;
     if (!f.integer) {
-      write_dataset(comm, group, dataset, f.name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, slab,
-                    f.values.data(), transfer.get(), path);
+      file.dataset(group, dataset, f.name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, slab,
+                   f.values.data());
       return;
     }
     const std::vector<std::int32_t> whole(f.values.begin(), f.values.end());
-    write_dataset(comm, group, dataset, f.name, H5T_STD_I32LE, H5T_NATIVE_INT32, slab,
-                  whole.data(), transfer.get(), path);
+    file.dataset(group, dataset, f.name, H5T_STD_I32LE, H5T_NATIVE_INT32, slab, whole.data());
   };
-  for (const Field& f : nodes.fields) write_field(node_group.get(), "nodes", f, node_rows);
-  write_dataset(comm, bond_group.get(), "/bonds/connectivity", "connectivity", H5T_STD_I64LE,
-                H5T_NATIVE_INT64, with_columns(bond_rows, 2), bonds.ends.data(), transfer.get(),
-                path);
-  write_dataset(comm, bond_group.get(), "/bonds/id", "id", H5T_STD_I64LE, H5T_NATIVE_INT64,
-                bond_rows, bonds.ids.data(), transfer.get(), path);
-  for (const Field& f : bonds.fields) write_field(bond_group.get(), "bonds", f, bond_rows);
+  for (const Field& f : nodes.fields) write_field(node_group, "nodes", f, node_rows);
+  file.dataset(bond_group, "/bonds/connectivity", "connectivity", H5T_STD_I64LE, H5T_NATIVE_INT64,
+               bond_rows.with_columns(2), bonds.ends.data());
+  file.dataset(bond_group, "/bonds/id", "id", H5T_STD_I64LE, H5T_NATIVE_INT64, bond_rows,
+               bonds.ids.data());
+  for (const Field& f : bonds.fields) write_field(bond_group, "bonds", f, bond_rows);
 
   // Root attributes (identical on every rank: the caller broadcast them).
-  const hid_t root = file.get();
-  collective_step(comm, "HDF5: cannot write the provenance attributes in " + label,
-                  [&] { return h5::write_provenance_attributes(root, provenance); });
-  for (const auto& scalar : scalars) {
-    collective_step(comm, "HDF5: cannot write attribute '" + scalar.first + "' in " + label, [&] {
+  file.provenance(provenance);
+  for (const auto& scalar : scalars)
+    file.attribute(scalar.first, [&](hid_t root) {
       return h5::write_numeric_attribute(root, scalar.first, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE,
-                                     &scalar.second);
+                                         &scalar.second);
     });
-  }
-
-  collective_step(comm, "HDF5: cannot close " + label, [&] {
-    bool ok = node_group.close();
-    ok = bond_group.close() && ok;
-    ok = transfer.close() && ok;
-    ok = file.close() && ok;
-    ok = access.close() && ok;
-    return ok;
-  });
+  file.close();
 }
 
 // ---------------------------------------------------------------------------

@@ -428,7 +428,7 @@ LatticeBlock make_cell_lattice(MPI_Comm comm, const RandomLatticeSpec& spec) {
   std::vector<int> to(edges.size());
   for (std::size_t k = 0; k < edges.size(); ++k) to[k] = node_rows.rank_of(edges[k].i);
   std::vector<Edge> sorted = route(comm, edges, to);
-  edges.clear();
+  std::vector<Edge>().swap(edges);  // the memory back: the edges are the largest arrays here
   std::sort(sorted.begin(), sorted.end(), [](const Edge& a, const Edge& b) {
     return a.i != b.i ? a.i < b.i : a.j < b.j;
   });
@@ -440,7 +440,8 @@ LatticeBlock make_cell_lattice(MPI_Comm comm, const RandomLatticeSpec& spec) {
   to.resize(sorted.size());
   for (std::size_t k = 0; k < sorted.size(); ++k)
     to[k] = bond_rows.rank_of(before + static_cast<std::int64_t>(k));
-  const std::vector<Edge> block_edges = route(comm, sorted, to);  // in id order
+  std::vector<Edge> block_edges = route(comm, sorted, to);  // in id order
+  std::vector<Edge>().swap(sorted);
 
   LatticeBlock out;
   out.box = box;
@@ -448,10 +449,13 @@ LatticeBlock make_cell_lattice(MPI_Comm comm, const RandomLatticeSpec& spec) {
   out.bonds = bonds;
   out.node_begin = node_rows.begin(grid.rank());
   out.bond_begin = bond_rows.begin(grid.rank());
+  out.ends.reserve(block_edges.size());
+  out.end_coords.reserve(block_edges.size());
   for (const Edge& e : block_edges) {
     out.ends.push_back({e.i, e.j});
     out.end_coords.push_back({e.xi, e.xj});
   }
+  std::vector<Edge>().swap(block_edges);
   // Nodes to the ranks of their id blocks.
   struct Node {
     std::int64_t id;

@@ -320,13 +320,30 @@ double cell_volume(ConvexCell& cell, const Box& box, double scale, const Point& 
 
 }  // namespace
 
-double clipped_cell_volume(const Box& box, const Point& node,
-                           const std::vector<Point>& neighbours) {
+struct ClippedCells::Work {
+  Box box;
+  double scale = 0;
   ConvexCell cell;
   std::vector<std::pair<double, Point>> list;
-  list.reserve(neighbours.size());
-  for (const Point& q : neighbours) list.emplace_back(0.0, q);
-  return cell_volume(cell, box, length_scale(box), node, list);
+};
+
+ClippedCells::ClippedCells(const Box& box) : work_(std::make_unique<Work>()) {
+  work_->box = box;
+  work_->scale = length_scale(box);
+}
+
+ClippedCells::~ClippedCells() = default;
+
+double ClippedCells::volume(const Point& node, const std::vector<Point>& neighbours) {
+  Work& w = *work_;
+  w.list.clear();
+  for (const Point& q : neighbours) w.list.emplace_back(0.0, q);
+  return cell_volume(w.cell, w.box, w.scale, node, w.list);
+}
+
+double clipped_cell_volume(const Box& box, const Point& node,
+                           const std::vector<Point>& neighbours) {
+  return ClippedCells(box).volume(node, neighbours);
 }
 
 std::vector<double> voronoi_volumes(const Lattice& lattice) {
@@ -354,15 +371,13 @@ std::vector<double> voronoi_volumes(const Lattice& lattice) {
     }
   }
 
-  const double scale = length_scale(lattice.box);
-  ConvexCell cell;
-  std::vector<std::pair<double, Point>> list;
+  ClippedCells cells(lattice.box);
+  std::vector<Point> around;
   std::vector<double> volumes(n);
   for (std::size_t i = 0; i < n; ++i) {
-    list.clear();
-    for (std::size_t k = begin[i]; k < begin[i + 1]; ++k)
-      list.emplace_back(0.0, lattice.nodes[adj[k]]);
-    volumes[i] = cell_volume(cell, lattice.box, scale, lattice.nodes[i], list);
+    around.clear();
+    for (std::size_t k = begin[i]; k < begin[i + 1]; ++k) around.push_back(lattice.nodes[adj[k]]);
+    volumes[i] = cells.volume(lattice.nodes[i], around);
   }
   return volumes;
 }

@@ -209,8 +209,11 @@ const char* void_rule_name(VoidRule rule) {
 }
 
 Phase bond_phase(const NodePhases& nodes, std::int32_t a, std::int32_t b, VoidRule rule) {
-  const std::int32_t pa = nodes.particle[a], pb = nodes.particle[b];
-  const bool ma = nodes.matrix[a], mb = nodes.matrix[b];
+  return bond_phase(nodes.particle[a], nodes.matrix[a] != 0, nodes.particle[b],
+                    nodes.matrix[b] != 0, rule);
+}
+
+Phase bond_phase(std::int32_t pa, bool ma, std::int32_t pb, bool mb, VoidRule rule) {
   const bool va = pa < 0 && !ma, vb = pb < 0 && !mb;
   // both_ends: a bond with one end in a pore belongs to its other end.
   if (rule == VoidRule::both_ends && va != vb) return (va ? pb : pa) >= 0 ? Phase::p : Phase::m;

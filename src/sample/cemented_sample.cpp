@@ -3,6 +3,8 @@
 #include "lem/error.hpp"
 #include "lem/voronoi.hpp"
 
+#include "sample_stages.hpp"
+
 #include <mpi.h>
 
 #include <algorithm>
@@ -44,7 +46,9 @@ void check_resolution(const CementedSampleSpec& spec, const CubeSample& cube) {
 
 }  // namespace
 
-CementedSample build_granular_sample(const CementedSampleSpec& spec) {
+namespace sample_stages {
+
+Box cut_granular_cube(const CementedSampleSpec& spec, CementedSample& s) {
   if (spec.sample_particles < kMinSampleParticles)
     throw InputError("a cubic sample needs at least " + std::to_string(kMinSampleParticles) +
                      " particles, " + std::to_string(spec.sample_particles) + " requested");
@@ -55,9 +59,8 @@ CementedSample build_granular_sample(const CementedSampleSpec& spec) {
   validate(spec.packing);
   target_node_count(spec.lattice);  // a lattice size is given, before the packing runs
 
-  CementedSample s;
   auto& st = s.stats;
-  double t = MPI_Wtime();
+  const double t = MPI_Wtime();
   const Packing packing = make_packing(spec.packing);
   // Keep every sphere reaching into the cube: the sample then has the
   // packing's density (rho^p ~ 0.64) as in the paper.
@@ -69,11 +72,45 @@ CementedSample build_granular_sample(const CementedSampleSpec& spec) {
   st.side = cube.side;
   st.rho_p_geometric = cube.region_volume_fraction;
   st.packing_seconds = MPI_Wtime() - t;
+  return Box{{0, 0, 0}, {cube.side, cube.side, cube.side}};
+}
 
-  t = MPI_Wtime();
+int ends_leaving_particles(Phase phase, bool first_in_particle, bool second_in_particle) {
+  if (phase == Phase::pp) return 2;  // leaves both particles
+  return first_in_particle != second_in_particle ? 1 : 0;
+}
+
+void set_count_statistics(CementedSampleStats& st, const std::vector<Bridge>& bridges,
+                          const std::vector<int>& holding, std::int64_t leaving) {
+  const double per = 1.0 / static_cast<double>(std::max<std::int64_t>(1, st.sample_particles));
+  st.bonds_per_particle = static_cast<double>(st.bonds_per_phase[static_cast<int>(Phase::p)]) * per;
+  st.interface_ratio = static_cast<double>(st.bonds_per_phase[static_cast<int>(Phase::pm)]) /
+                       static_cast<double>(std::max<std::int64_t>(1, leaving));
+  // Bridges per particle: bridge ends on the particles whose centres are in
+  // the cube (the first sample_particles), per such particle.  A bridge is
+  // "holding" when it contains at least one matrix node (thin bridges hidden
+  // in a contact neck hold none).
+  std::int64_t eligible_ends = 0, holding_ends = 0;
+  for (std::size_t k = 0; k < bridges.size(); ++k) {
+    const int ends = (bridges[k].i < st.sample_particles) + (bridges[k].j < st.sample_particles);
+    eligible_ends += ends;
+    if (holding[k]) holding_ends += ends;
+  }
+  st.bridges = std::count(holding.begin(), holding.end(), 1);
+  st.eligible_per_particle = static_cast<double>(eligible_ends) * per;
+  st.bridges_per_particle = static_cast<double>(holding_ends) * per;
+}
+
+}  // namespace sample_stages
+
+CementedSample build_granular_sample(const CementedSampleSpec& spec) {
+  CementedSample s;
+  auto& st = s.stats;
+  const Box box = sample_stages::cut_granular_cube(spec, s);
+
+  double t = MPI_Wtime();
   RandomLatticeSpec ls = spec.lattice;
-  ls.box.lo = {0, 0, 0};
-  ls.box.hi = {cube.side, cube.side, cube.side};
+  ls.box = box;
   s.lattice = make_random_lattice(ls);
   st.nodes = static_cast<std::int64_t>(s.lattice.node_count());
   st.bonds = static_cast<std::int64_t>(s.lattice.bond_count());
@@ -134,35 +171,18 @@ void add_matrix(CementedSample& s, const BridgeSpec& spec) {
     ++st.bonds_per_phase[k];
     st.bond_volume_fraction[k] +=
         (s.node_volume[bond.i] / degree[bond.i] + s.node_volume[bond.j] / degree[bond.j]) / volume;
-    const bool pi = s.node_phases.particle[bond.i] >= 0, pj = s.node_phases.particle[bond.j] >= 0;
-    if (pi != pj) ++leaving;
-    if (phase == Phase::pp) leaving += 2;  // leaves both particles
+    leaving += sample_stages::ends_leaving_particles(phase, s.node_phases.particle[bond.i] >= 0,
+                                                     s.node_phases.particle[bond.j] >= 0);
   }
   const auto fractions = node_fractions(s.node_phases, s.node_volume, volume);
   st.rho_p = fractions[0];
   st.rho_m = fractions[1];
   st.rho_v = fractions[2];
-  const double per = 1.0 / static_cast<double>(std::max<std::int64_t>(1, st.sample_particles));
-  st.bonds_per_particle = static_cast<double>(st.bonds_per_phase[static_cast<int>(Phase::p)]) * per;
-  st.interface_ratio = static_cast<double>(st.bonds_per_phase[static_cast<int>(Phase::pm)]) /
-                       static_cast<double>(std::max<std::int64_t>(1, leaving));
-  // Bridges per particle: bridge ends on the particles whose centres are in
-  // the cube (the first sample_particles), per such particle.  A bridge is
-  // "holding" when it contains at least one matrix node (thin bridges hidden
-  // in a contact neck hold none).
-  std::vector<char> holding(s.bridges.size(), 0);
+  std::vector<int> holding(s.bridges.size(), 0);
   for (std::size_t n = 0; n < s.lattice.node_count(); ++n)
     if (s.node_phases.matrix[n])
       for (std::int32_t k : geometry.bridges_at(s.lattice.nodes[n])) holding[k] = 1;
-  std::int64_t eligible_ends = 0, holding_ends = 0;
-  for (std::size_t k = 0; k < s.bridges.size(); ++k) {
-    const int ends = (s.bridges[k].i < st.sample_particles) + (s.bridges[k].j < st.sample_particles);
-    eligible_ends += ends;
-    if (holding[k]) holding_ends += ends;
-  }
-  st.bridges = std::count(holding.begin(), holding.end(), 1);
-  st.eligible_per_particle = static_cast<double>(eligible_ends) * per;
-  st.bridges_per_particle = static_cast<double>(holding_ends) * per;
+  sample_stages::set_count_statistics(st, s.bridges, holding, leaving);
   st.phases_seconds += MPI_Wtime() - t;
 }
 

@@ -1,5 +1,5 @@
 // Checks of a sample read from a file that go beyond the shapes and ranges
-// of its datasets: geometry, volumes, repeated bonds (sample_file.cpp).
+// of its datasets: geometry, volumes, repeated bonds (sample_reader.cpp).
 #pragma once
 
 #include "lem/cemented_sample.hpp"

@@ -35,6 +35,15 @@ bool read_random_lattice_options(OptionGroup& g, RandomLatticeSpec& spec) {
   return spec.nodes != 0 || spec.bonds != 0 || spec.mesh_density != 0;
 }
 
+LatticeGenerator read_lattice_generator(OptionGroup& g) {
+  return g.choice<LatticeGenerator>(
+      "-lattice_generator", "How a random lattice is made: serial (on rank 0: the lattices of "
+      "earlier versions) or cells (every rank its cells of a grid, the same lattice on any rank "
+      "count: no rank holds all of it; lem_sample then builds the whole sample in parallel)",
+      {{"serial", LatticeGenerator::serial}, {"cells", LatticeGenerator::cells}},
+      LatticeGenerator::serial);
+}
+
 bool read_face_bond_option(OptionGroup& g) {
   return g.choice<bool>(
       "-lattice_face_bonds", "Bonds lying in a box face: whole = full stiffness and strength "
@@ -106,6 +115,7 @@ CementedSampleSpec read_cemented_sample_spec(MPI_Comm comm) {
   }
   if (!read_random_lattice_options(g, spec.lattice))
     spec.lattice.bonds = kBondsPerSampleParticle * spec.sample_particles;
+  spec.generator = read_lattice_generator(g);
   // The bridge options are in units of d_min; the geometry works in lengths.
   spec.bridges.matrix_fraction = g.real(
       "-matrix_fraction", "Requested matrix volume fraction rho^m (calibrated on the lattice "

@@ -151,12 +151,7 @@ SampleOptions read_sample_options(MPI_Comm comm) {
     for (int a = 0; a < 3; ++a) o.random.box.hi[a] = box[a];
     if (!read_random_lattice_options(g, o.random)) o.random.nodes = 20000;
     o.random.stiffness = g.real("-lattice_k", "Hooke constant k of the bonds", 1.0, 0.0, 1e300, true);
-    o.generator = g.choice<LatticeGenerator>(
-        "-lattice_generator", "How a random lattice is made: serial (on rank 0, then "
-        "scattered: the lattices of earlier versions) or cells (every rank its cells of a grid, "
-        "the same lattice on any rank count, set up in parallel: no rank holds all of it)",
-        {{"serial", LatticeGenerator::serial}, {"cells", LatticeGenerator::cells}},
-        LatticeGenerator::serial);
+    o.generator = read_lattice_generator(g);
     if (o.generator == LatticeGenerator::cells && o.lattice_type != LatticeType::random)
       throw InputError("option -lattice_generator cells makes random lattices: not with "
                        "-lattice_type fcc");

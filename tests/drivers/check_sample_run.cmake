@@ -1,9 +1,10 @@
 # lem_sample builds a small sample and writes the sample file, its XDMF and
 # the summaries; lem_tension (2 ranks) then runs on that file.
 #   -DSAMPLE="mpiexec -n 1 lem_sample" -DTENSION="mpiexec -n 2 lem_tension" -DDIR=<dir>
+#   [-DSAMPLE_ARGS=... -DTENSION_ARGS=...] (more options of each)
 file(REMOVE_RECURSE ${DIR})
-separate_arguments(SAMPLE UNIX_COMMAND "${SAMPLE}")
-separate_arguments(TENSION UNIX_COMMAND "${TENSION}")
+separate_arguments(SAMPLE UNIX_COMMAND "${SAMPLE} ${SAMPLE_ARGS}")
+separate_arguments(TENSION UNIX_COMMAND "${TENSION} ${TENSION_ARGS}")
 execute_process(COMMAND ${SAMPLE} -sample_particles 20 -lattice_bonds 20000 -pack_seed 2
                         -matrix_fraction 0.1 -output_dir ${DIR}/sample
                 RESULT_VARIABLE status OUTPUT_VARIABLE out ERROR_VARIABLE err)

@@ -3,6 +3,8 @@
 #include "lem/cemented_sample.hpp"
 #include "lem/error.hpp"
 
+#include "../little_sample.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -24,15 +26,7 @@ const CementedSample& small_sample() {
   return sample;
 }
 
-// 27 particles on a 2e4-bond lattice: built in a second or two.
-CementedSampleSpec little_spec() {
-  CementedSampleSpec spec;
-  spec.packing.count = 100;
-  spec.packing.seed = 5;
-  spec.sample_particles = 27;
-  spec.lattice.bonds = 20000;
-  return spec;
-}
+CementedSampleSpec little_spec() { return little_sample_spec(); }
 }  // namespace
 
 TEST(CementedSample, VolumesPartitionTheCube) {

@@ -1,15 +1,15 @@
-// The cemented sample file (see lem/sample_file.hpp): serial HDF5 with
-// compressed chunks, an XDMF description, and a reader that checks
-// everything it loads so that a wrong or damaged file is one clear message.
+// Reading the cemented sample file (lem/sample_file.hpp), whole on one rank
+// or by blocks of rows on every rank, with checks of everything it loads so
+// that a wrong or damaged file is one clear message.
 #include "lem/sample_file.hpp"
 
-#include "lem/error.hpp"
-#include "lem/files.hpp"
-#include "lem/hdf5_util.hpp"
 #include "lem/collective.hpp"
+#include "lem/error.hpp"
+#include "lem/hdf5_util.hpp"
 #include "lem/redistribute.hpp"
 
 #include "sample_checks.hpp"
+#include "sample_layout.hpp"
 
 #include <hdf5.h>
 
@@ -27,314 +27,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using h5::Handle;
-
-// ---------------------------------------------------------------------------
-// Scalar attributes: one list, used by the writer and the reader
-// ---------------------------------------------------------------------------
-
-// Every statistic must be stored: a new field changes the size (all fields
-// are 8 bytes) and must be added to visit_statistics below.
-static_assert(sizeof(CementedSampleStats) == 31 * 8,
-              "CementedSampleStats changed: store the new field in visit_statistics()");
-
-/// Calls visit(name, value&) for the numeric attributes a reader needs: the
-/// sizes (checked against the datasets) and the recipe (value:
-/// std::int64_t, std::uint64_t or double).
-template <class Visit>
-void visit_structure(CementedSampleStats& st, CementedSampleSpec& sp, Visit&& visit) {
-  visit("particles", st.particles);
-  visit("nodes", st.nodes);
-  visit("bonds", st.bonds);
-  PackingSpec& p = sp.packing;
-  visit("packing_count", p.count);
-  visit("packing_d_min", p.d_min);
-  visit("packing_d_max", p.d_max);
-  visit("packing_seed", p.seed);
-  visit("packing_initial_fraction", p.initial_fraction);
-  visit("packing_initial_step", p.initial_step);
-  visit("packing_fraction_tolerance", p.fraction_tolerance);
-  visit("packing_contact_gap", p.contact_gap);
-  visit("packing_force_tolerance", p.force_tolerance);
-  visit("packing_max_relaxation_steps", p.max_relaxation_steps);
-  visit("sample_particles", sp.sample_particles);
-  RandomLatticeSpec& l = sp.lattice;
-  visit("lattice_nodes", l.nodes);
-  visit("lattice_bonds", l.bonds);
-  visit("lattice_Ln", l.mesh_density);
-  visit("lattice_min_separation", l.min_separation);
-  visit("lattice_seed", l.seed);
-  visit("lattice_stiffness", l.stiffness);
-  visit("matrix_fraction", sp.bridges.matrix_fraction);
-  visit("matrix_max_gap", sp.bridges.max_gap);
-  visit("matrix_max_lambda", sp.bridges.max_lambda);
-}
-
-/// The other statistics: informative only, so a file written before a
-/// statistic existed still loads (the statistic then reads as 0).
-template <class Visit>
-void visit_statistics(CementedSampleStats& st, Visit&& visit) {
-  visit("centres_inside", st.sample_particles);
-  visit("side", st.side);
-  visit("nodes_per_particle", st.nodes_per_particle);
-  visit("rho_p_geometric", st.rho_p_geometric);
-  visit("rho_m_requested", st.rho_m_requested);
-  visit("rho_p", st.rho_p);
-  visit("rho_m", st.rho_m);
-  visit("rho_v", st.rho_v);
-  for (int k = 0; k < kPhaseCount; ++k) {
-    const std::string phase = phase_name(static_cast<Phase>(k));
-    visit("bonds_" + phase, st.bonds_per_phase[k]);
-    visit("bond_volume_fraction_" + phase, st.bond_volume_fraction[k]);
-  }
-  visit("bonds_per_particle", st.bonds_per_particle);
-  visit("eligible_pairs", st.eligible_pairs);
-  visit("bridges", st.bridges);
-  visit("eligible_per_particle", st.eligible_per_particle);
-  visit("bridges_per_particle", st.bridges_per_particle);
-  visit("interface_ratio", st.interface_ratio);
-  visit("packing_seconds", st.packing_seconds);
-  visit("lattice_seconds", st.lattice_seconds);
-  visit("voronoi_seconds", st.voronoi_seconds);
-  visit("phases_seconds", st.phases_seconds);
-}
-
-template <class T>
-std::pair<hid_t, hid_t> hdf5_types() {  // (file type, memory type)
-  if constexpr (std::is_same_v<T, double>) return {H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE};
-  else if constexpr (std::is_same_v<T, std::int64_t>) return {H5T_STD_I64LE, H5T_NATIVE_INT64};
-  else if constexpr (std::is_same_v<T, std::uint64_t>) return {H5T_STD_U64LE, H5T_NATIVE_UINT64};
-  else if constexpr (std::is_same_v<T, std::int32_t>) return {H5T_STD_I32LE, H5T_NATIVE_INT32};
-  else {
-    static_assert(std::is_same_v<T, std::uint8_t>);
-    return {H5T_STD_U8LE, H5T_NATIVE_UINT8};
-  }
-}
-
-const char* distribution_name(SizeDistribution d) {
-  return d == SizeDistribution::uniform_volume ? "uniform_volume" : "uniform_diameter";
-}
-const char* law_name(ContactLaw law) { return law == ContactLaw::hertz ? "hertz" : "linear"; }
-
-std::uint8_t node_phase_code(const NodePhases& np, std::size_t n) {
-  return np.particle[n] >= 0 ? 0 : (np.matrix[n] ? 1 : 2);
-}
-
-// ---------------------------------------------------------------------------
-// Writing
-// ---------------------------------------------------------------------------
-
-class SampleWriter {
- public:
-  // The file is made in memory and written out by write_file_atomically: an
-  // I/O error then never reaches HDF5, whose file object a failed close
-  // leaves behind (and crashes on when MPI ends).
-  SampleWriter(const std::string& path, const std::string& label) : label_(label) {
-    const Handle access(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
-    check(access.valid() && H5Pset_fapl_core(access.get(), kImageIncrement, false) >= 0,
-          "set up the file in memory");
-    file_ = Handle(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access.get()), H5Fclose);
-    check(file_.valid(), "create the file");
-    // Shipped samples should be small; fall back to plain storage if this
-    // HDF5 build lacks zlib.
-    unsigned config = 0;
-    compress_ = H5Zfilter_avail(H5Z_FILTER_DEFLATE) > 0 &&
-                H5Zget_filter_info(H5Z_FILTER_DEFLATE, &config) >= 0 &&
-                (config & H5Z_FILTER_CONFIG_ENCODE_ENABLED) != 0;
-  }
-
-  hid_t file() const { return file_.get(); }
-
-  void group(const char* name) {
-    Handle g(H5Gcreate2(file_.get(), name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
-    check(g.valid() && g.close(), std::string("create group /") + name);
-  }
-
-  /// rows x columns values (columns 0: a 1-D dataset).
-  template <class T>
-  void dataset(const std::string& path, const T* data, std::size_t rows, hsize_t columns = 0) {
-    const auto [file_type, memory_type] = hdf5_types<T>();
-    const int rank = columns == 0 ? 1 : 2;
-    const hsize_t dims[2] = {static_cast<hsize_t>(rows), columns};
-    Handle space(H5Screate_simple(rank, dims, nullptr), H5Sclose);
-    Handle create(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
-    check(space.valid() && create.valid(), "describe dataset " + path);
-    if (compress_ && rows > 0) {
-      // Chunks of at most 64k rows; shuffling the bytes first makes integers
-      // and nearby doubles compress far better.
-      const hsize_t chunk[2] = {std::min<hsize_t>(rows, 65536), columns};
-      check(H5Pset_chunk(create.get(), rank, chunk) >= 0 && H5Pset_shuffle(create.get()) >= 0 &&
-                H5Pset_deflate(create.get(), 6) >= 0,
-            "set up compression of " + path);
-    }
-    Handle set(H5Dcreate2(file_.get(), path.c_str(), file_type, space.get(), H5P_DEFAULT,
-                          create.get(), H5P_DEFAULT),
-               H5Dclose);
-    check(set.valid(), "create dataset " + path);
-    if (rows > 0)
-      check(H5Dwrite(set.get(), memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) >= 0,
-            "write dataset " + path);
-    check(set.close(), "close dataset " + path);
-  }
-
-  template <class T>
-  void number(const std::string& name, const T& value) {
-    const auto [file_type, memory_type] = hdf5_types<T>();
-    check(h5::write_numeric_attribute(file_.get(), name, file_type, memory_type, &value),
-          "write attribute " + name);
-  }
-
-  void text(const std::string& name, const std::string& value) {
-    check(h5::write_string_attribute(file_.get(), name, value), "write attribute " + name);
-  }
-
-  void vector3(const std::string& name, const Point& value) {
-    const hsize_t three = 3;
-    Handle space(H5Screate_simple(1, &three, nullptr), H5Sclose);
-    Handle attribute(space.valid() ? H5Acreate2(file_.get(), name.c_str(), H5T_IEEE_F64LE,
-                                                space.get(), H5P_DEFAULT, H5P_DEFAULT)
-                                   : H5I_INVALID_HID,
-                     H5Aclose);
-    check(attribute.valid() && H5Awrite(attribute.get(), H5T_NATIVE_DOUBLE, value.data()) >= 0 &&
-              attribute.close(),
-          "write attribute " + name);
-  }
-
-  /// The whole file, closed.
-  std::vector<char> close() {
-    check(H5Fflush(file_.get(), H5F_SCOPE_GLOBAL) >= 0, "flush the file");
-    const ssize_t size = H5Fget_file_image(file_.get(), nullptr, 0);
-    check(size > 0, "measure the file");
-    std::vector<char> image(static_cast<std::size_t>(size));
-    check(H5Fget_file_image(file_.get(), image.data(), image.size()) == size, "copy the file");
-    check(file_.close(), "close the file");
-    return image;
-  }
-
- private:
-  static constexpr std::size_t kImageIncrement = std::size_t(1) << 20;
-  void check(bool ok, const std::string& what) const {
-    if (!ok) throw IoError("cannot write sample file " + label_ + ": HDF5 could not " + what);
-  }
-  std::string label_;
-  Handle file_;
-  bool compress_ = false;
-};
-
-void check_sizes(const CementedSample& s) {
-  const std::size_t n = s.lattice.node_count(), m = s.lattice.bond_count();
-  if (s.node_volume.size() != n || s.node_phases.particle.size() != n ||
-      s.node_phases.matrix.size() != n || s.bond_phase.size() != m ||
-      s.lattice.stiffness.size() != m)
-    throw std::invalid_argument("write_sample: the sample's per-node or per-bond arrays do not "
-                                "match its lattice (" + std::to_string(n) + " nodes, " +
-                                std::to_string(m) + " bonds)");
-}
-
-std::vector<char> write_hdf5(const std::string& path, const std::string& label,
-                             const CementedSample& s, const CementedSampleSpec& spec,
-                             const Provenance& provenance) {
-  SampleWriter w(path, label);
-  w.text("format", kSampleFormat);
-  w.number("format_version", static_cast<std::int64_t>(kSampleFormatVersion));
-
-  const std::size_t n = s.lattice.node_count(), m = s.lattice.bond_count();
-  w.group("nodes");
-  w.dataset("/nodes/coordinates", s.lattice.nodes.data()->data(), n, 3);
-  w.dataset("/nodes/volume", s.node_volume.data(), n);
-  w.dataset("/nodes/particle", s.node_phases.particle.data(), n);
-  std::vector<std::uint8_t> codes(n);
-  for (std::size_t i = 0; i < n; ++i) codes[i] = node_phase_code(s.node_phases, i);
-  w.dataset("/nodes/phase", codes.data(), n);
-  // The vertex connectivity of the XDMF node grid (readers show no cells without it).
-  const auto node_rows = h5::XdmfText::vertex_rows(0, static_cast<std::int64_t>(n));
-  w.dataset("/nodes/vertices", node_rows.data(), n, 1);
-
-  w.group("bonds");
-  std::vector<std::int64_t> ends(2 * m);
-  for (std::size_t b = 0; b < m; ++b) {
-    ends[2 * b] = s.lattice.bonds[b].i;
-    ends[2 * b + 1] = s.lattice.bonds[b].j;
-  }
-  w.dataset("/bonds/connectivity", ends.data(), m, 2);
-  codes.resize(m);
-  for (std::size_t b = 0; b < m; ++b) codes[b] = static_cast<std::uint8_t>(s.bond_phase[b]);
-  w.dataset("/bonds/phase", codes.data(), m);
-  w.dataset("/bonds/stiffness", s.lattice.stiffness.data(), m);
-
-  const std::size_t p = s.particles.size();
-  std::vector<double> centres(3 * p), radii(p);
-  for (std::size_t i = 0; i < p; ++i) {
-    std::copy(s.particles[i].centre.begin(), s.particles[i].centre.end(), &centres[3 * i]);
-    radii[i] = s.particles[i].radius;
-  }
-  w.group("particles");
-  w.dataset("/particles/centres", centres.data(), p, 3);
-  w.dataset("/particles/radii", radii.data(), p);
-  const auto particle_rows = h5::XdmfText::vertex_rows(0, static_cast<std::int64_t>(p));
-  w.dataset("/particles/vertices", particle_rows.data(), p, 1);
-
-  const std::size_t nb = s.bridges.size();
-  std::vector<std::int32_t> pairs(2 * nb);
-  std::vector<double> lambda(nb);
-  for (std::size_t k = 0; k < nb; ++k) {
-    pairs[2 * k] = s.bridges[k].i;
-    pairs[2 * k + 1] = s.bridges[k].j;
-    lambda[k] = s.bridges[k].lambda;
-  }
-  w.group("bridges");
-  w.dataset("/bridges/particles", pairs.data(), nb, 2);
-  w.dataset("/bridges/lambda", lambda.data(), nb);
-
-  w.vector3("box_lo", s.lattice.box.lo);
-  w.vector3("box_hi", s.lattice.box.hi);
-  CementedSampleStats stats = s.stats;
-  CementedSampleSpec copy = spec;
-  const auto write = [&](const std::string& name, auto& value) { w.number(name, value); };
-  visit_structure(stats, copy, write);
-  visit_statistics(stats, write);
-  w.text("packing_distribution", distribution_name(spec.packing.distribution));
-  w.text("packing_law", law_name(spec.packing.law));
-  w.text("void_bonds", void_rule_name(spec.bridges.void_bonds));
-  if (!h5::write_provenance_attributes(w.file(), provenance))
-    throw InputError("cannot write sample file " + label + ": HDF5 could not write the "
-                     "provenance attributes");
-  return w.close();
-}
-
-// One grid per XDMF file (meshio reads no more): <stem>.xmf the bonds with
-// the node data on their ends, <stem>_nodes.xmf the nodes, and
-// <stem>_particles.xmf the particles as vertices.
-struct SampleXdmf {
-  std::string bonds, nodes, particles;
-};
-
-SampleXdmf sample_xdmf(const std::string& h5_name, const CementedSample& s) {
-  const auto n = static_cast<std::int64_t>(s.lattice.node_count());
-  const auto m = static_cast<std::int64_t>(s.lattice.bond_count());
-  const auto p = static_cast<std::int64_t>(s.particles.size());
-  const h5::XdmfArray node_arrays[] = {{"phase", "/nodes/phase", 1, "UChar", 1},
-                                       {"particle", "/nodes/particle", 1, "Int", 4},
-                                       {"volume", "/nodes/volume", 1, "Float", 8}};
-  SampleXdmf out;
-  h5::XdmfText bonds(h5_name);
-  bonds.begin_polylines("bonds", m, "/bonds/connectivity", n, "/nodes/coordinates");
-  for (const auto& a : node_arrays) bonds.attribute(a, "Node", n);
-  bonds.attribute({"phase", "/bonds/phase", 1, "UChar", 1}, "Cell", m);
-  bonds.attribute({"stiffness", "/bonds/stiffness", 1, "Float", 8}, "Cell", m);
-  bonds.end_grid();
-  out.bonds = bonds.text();
-  h5::XdmfText nodes(h5_name);
-  nodes.begin_points("nodes", n, "/nodes/coordinates", "/nodes/vertices");
-  for (const auto& a : node_arrays) nodes.attribute(a, "Node", n);
-  nodes.end_grid();
-  out.nodes = nodes.text();
-  h5::XdmfText particles(h5_name);
-  particles.begin_points("particles", p, "/particles/centres", "/particles/vertices");
-  particles.attribute({"radius", "/particles/radii", 1, "Float", 8}, "Node", p);
-  particles.end_grid();
-  out.particles = particles.text();
-  return out;
-}
+using namespace sample_layout;
 
 // ---------------------------------------------------------------------------
 // Reading
@@ -521,6 +214,15 @@ SampleFile read_description(const SampleReader& r, const std::string& path) {
     f.spec.bridges.void_bonds =
         rule == void_rule_name(VoidRule::both_ends) ? VoidRule::both_ends : VoidRule::any_end;
   }
+  // Files written before the cells generator: serial.
+  if (r.has_attribute("lattice_generator")) {
+    const std::string generator = r.text("lattice_generator");
+    if (generator != generator_name(LatticeGenerator::serial) &&
+        generator != generator_name(LatticeGenerator::cells))
+      r.corrupt("unknown lattice_generator '" + generator + "'");
+    f.spec.generator = generator == generator_name(LatticeGenerator::cells) ? LatticeGenerator::cells
+                                                                           : LatticeGenerator::serial;
+  }
   r.numbers("box_lo", s.lattice.box.lo.data(), 3);
   r.numbers("box_hi", s.lattice.box.hi.data(), 3);
   f.spec.lattice.box = s.lattice.box;
@@ -676,26 +378,6 @@ void check_repeated_bonds(MPI_Comm comm, const SampleBlock& block, const RowBloc
 }
 
 }  // namespace
-
-void write_sample(const std::string& stem, const CementedSample& sample,
-                  const CementedSampleSpec& spec, const Provenance& provenance) {
-  check_sizes(sample);
-  if (stem.empty() || fs::path(stem).filename().empty())
-    throw InputError("write_sample: output stem '" + stem +
-                     "' must name a file (e.g. meshes/tiny), not be empty or end in '/'");
-  const std::string h5_path = stem + ".h5";
-  const std::string memory_name = h5_path + ".tmp";  // never on disk
-  std::vector<char> image;
-  {
-    const h5::QuietErrors quiet;
-    image = write_hdf5(memory_name, "'" + h5_path + "'", sample, spec, provenance);
-  }
-  write_file_atomically(h5_path, image.data(), image.size());
-  const SampleXdmf xdmf = sample_xdmf(fs::path(h5_path).filename().string(), sample);
-  write_text_file_atomically(stem + ".xmf", xdmf.bonds);
-  write_text_file_atomically(stem + "_nodes.xmf", xdmf.nodes);
-  write_text_file_atomically(stem + "_particles.xmf", xdmf.particles);
-}
 
 SampleFile read_sample_file(const std::string& path) {
   const h5::QuietErrors quiet;
