@@ -41,6 +41,15 @@ void collective_hdf5_step(MPI_Comm comm, const std::string& what,
 /// Sum of `local` over the ranks below this one (0 on rank 0).
 std::int64_t exclusive_prefix_sum(MPI_Comm comm, std::int64_t local);
 
+/// Collective: <h5_path> made by `write(temporary)` under the name
+/// <h5_path>.tmp (watched by a WriteWatch, HDF5's own error printing off),
+/// removed if any rank fails; then rank 0 moves it into place and runs
+/// `publish` (e.g. the XDMF documents beside it).  Every rank throws the
+/// same error.
+void write_hdf5_into_place(MPI_Comm comm, const std::string& h5_path,
+                           const std::function<void(const std::string& temporary)>& write,
+                           const std::function<void()>& publish);
+
 class ParallelHdf5File {
  public:
   /// Collective: create (truncate) `path` (named in every error).

@@ -349,36 +349,18 @@ void write_lattice_fields(MPI_Comm comm, const std::string& stem, const NodeSlic
   }
   raise_collectively(comm, error);
 
-  // 6. The HDF5 file, under its temporary name; errors are ours to report
-  // (HDF5 would print its stack on every rank).
-  const WriteWatch watch(comm, h5_path, tmp_path);
-  const h5::QuietErrors quiet;
-  try {
-    write_hdf5(comm, tmp_path, nodes, bonds, layout, prov, root_scalars);
-  } catch (...) {
-    // Every rank is here (the failure was agreed on) and the file is closed.
-    MPI_Barrier(comm);
-    if (rank == 0) {
-      std::error_code ec;
-      fs::remove(tmp_path, ec);
-    }
-    throw;
-  }
-  MPI_Barrier(comm);  // every rank has closed the file
-
-  // 7. Rank 0 publishes the file and writes the XDMF description.
-  if (rank == 0) {
-    try {
-      move_into_place(tmp_path, h5_path);
-      const std::string h5_name = fs::path(h5_path).filename().string();
-      write_text_file_atomically(xmf_path,
-                                 bonds_xdmf(h5_name, layout, node_fields, bond_fields));
-      write_text_file_atomically(nodes_xmf_path, nodes_xdmf(h5_name, layout, node_fields));
-    } catch (...) {
-      error.first = std::current_exception();
-    }
-  }
-  raise_collectively(comm, error);
+  // 6. The HDF5 file under its temporary name, then rank 0 publishes it
+  // and writes the XDMF description.
+  write_hdf5_into_place(
+      comm, h5_path,
+      [&](const std::string& temporary) {
+        write_hdf5(comm, temporary, nodes, bonds, layout, prov, root_scalars);
+      },
+      [&] {
+        const std::string h5_name = fs::path(h5_path).filename().string();
+        write_text_file_atomically(xmf_path, bonds_xdmf(h5_name, layout, node_fields, bond_fields));
+        write_text_file_atomically(nodes_xmf_path, nodes_xdmf(h5_name, layout, node_fields));
+      });
 }
 
 }  // namespace lem

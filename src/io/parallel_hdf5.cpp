@@ -2,10 +2,13 @@
 
 #include "lem/collective.hpp"
 #include "lem/error.hpp"
+#include "lem/files.hpp"
 #include "lem/write_watch.hpp"
 
 #include <algorithm>
 #include <exception>
+#include <filesystem>
+#include <system_error>
 
 namespace lem {
 namespace {
@@ -66,6 +69,33 @@ std::int64_t exclusive_prefix_sum(MPI_Comm comm, std::int64_t local) {
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
   return rank == 0 ? 0 : prefix;  // MPI_Exscan leaves rank 0's result undefined
+}
+
+void write_hdf5_into_place(MPI_Comm comm, const std::string& h5_path,
+                           const std::function<void(const std::string& temporary)>& write,
+                           const std::function<void()>& publish) {
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  const std::string temporary = h5_path + ".tmp";
+  const WriteWatch watch(comm, h5_path, temporary);
+  {
+    const h5::QuietErrors quiet;
+    try {
+      write(temporary);
+    } catch (...) {
+      // Every rank is here (the failure was agreed on) and the file is closed.
+      MPI_Barrier(comm);
+      std::error_code ec;
+      if (rank == 0) std::filesystem::remove(temporary, ec);
+      throw;
+    }
+  }
+  MPI_Barrier(comm);  // every rank has closed the file
+  run_collectively(comm, [&] {
+    if (rank != 0) return;
+    move_into_place(temporary, h5_path);
+    publish();
+  });
 }
 
 ParallelHdf5File::ParallelHdf5File(MPI_Comm comm, const std::string& path)

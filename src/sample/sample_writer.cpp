@@ -8,7 +8,6 @@
 #include "lem/files.hpp"
 #include "lem/hdf5_util.hpp"
 #include "lem/parallel_hdf5.hpp"
-#include "lem/write_watch.hpp"
 
 #include "sample_layout.hpp"
 
@@ -376,8 +375,6 @@ void write_sample(const std::string& stem, const CementedSample& sample,
 }
 
 void write_sample_block(MPI_Comm comm, const std::string& stem, const SampleBlock& b) {
-  int rank = 0;
-  MPI_Comm_rank(comm, &rank);
   if (stem.empty() || fs::path(stem).filename().empty())
     throw InputError("write_sample_block: output stem '" + stem +
                      "' must name a file (e.g. meshes/tiny), not be empty or end in '/'");
@@ -388,27 +385,12 @@ void write_sample_block(MPI_Comm comm, const std::string& stem, const SampleBloc
       throw std::invalid_argument("write_sample_block: the block's per-node or per-bond arrays "
                                   "differ in length");
   });
-  const std::string h5_path = stem + ".h5", temporary = h5_path + ".tmp";
-  {
-    const WriteWatch watch(comm, h5_path, temporary);
-    const h5::QuietErrors quiet;
-    try {
-      write_block_hdf5(comm, temporary, b);
-    } catch (...) {
-      // Every rank is here (the failure was agreed on) and the file is closed.
-      MPI_Barrier(comm);
-      std::error_code ec;
-      if (rank == 0) fs::remove(temporary, ec);
-      throw;
-    }
-    MPI_Barrier(comm);  // every rank has closed the file
-  }
-  run_collectively(comm, [&] {
-    if (rank != 0) return;
-    move_into_place(temporary, h5_path);
-    write_sample_xdmf(stem, b.nodes, b.bonds,
-                      static_cast<std::int64_t>(b.description.sample.particles.size()));
-  });
+  write_hdf5_into_place(
+      comm, stem + ".h5", [&](const std::string& temporary) { write_block_hdf5(comm, temporary, b); },
+      [&] {
+        write_sample_xdmf(stem, b.nodes, b.bonds,
+                          static_cast<std::int64_t>(b.description.sample.particles.size()));
+      });
 }
 
 }  // namespace lem
