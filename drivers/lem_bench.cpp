@@ -6,7 +6,7 @@
 //
 //   mpirun -n 2 lem_bench -bench_bonds 1300000 -options_file jobs/solver-gamg.opts
 //
-// Solves measured (docs/performance.md):
+// Solves measured (docs/benchmarks.md):
 //   first  - ElasticSystem::solve(d) as lem_tension does it: KSPSetUp (PC built
 //            from scratch) then CG from the affine initial guess;
 //   repeat - -bench_repeat times: assemble() again (same values), KSPSetUp +

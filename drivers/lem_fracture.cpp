@@ -249,7 +249,7 @@ lem::Calibration calibrate(MPI_Comm comm, const lem::SampleOptions& sample,
   hom_options.output_dir = options.output_dir + "/calibration";
   hom_options.strength_unit = sample.phases.strength[0];
   // Only the peak is needed: stop once the avalanche that follows it has
-  // taken a tenth of the stress (docs/fracture.md, "Normalisation").
+  // taken a tenth of the stress (docs/model/fracture.md, "Normalisation and the calibration").
   hom_options.stop_fraction = std::max(options.stop_fraction, kCalibrationStopFraction);
   hom_options.stop_within_step = true;
   // -fracture_max_steps bounds the sample run, not its calibration.
@@ -546,7 +546,7 @@ int main(int argc, char** argv) {
     s.add("released_energy", r.released_energy, "lattice");
     s.add("energy_balance_error", r.energy_balance_error);
     s.add("end_reason", r.end_reason);
-    // Degradations (docs/fracture.md, "Warnings"): "code:count", the
+    // Degradations (docs/model/fracture.md, "Warnings"): "code:count", the
     // calibration's prefixed; an empty list for a sound run.
     std::vector<std::string> warnings = lem::warning_words(calibration_warnings, "calibration_");
     for (const auto& w : lem::warning_words(r.warnings)) warnings.push_back(w);
@@ -570,7 +570,7 @@ int main(int argc, char** argv) {
              (long long)r.iterations, (long long)r.preconditioner_builds, (long long)r.steps,
              r.energy_balance_error, r.seconds);
     // Commit: every file in place and synced, then the manifest, then the
-    // checkpoint goes (docs/fracture.md, "Results"); then a staged result
+    // checkpoint goes (docs/reference/outputs.md, "manifest.txt and the commit"); then a staged result
     // takes the old one's place.
     s.add_provenance(provenance);
     lem::run_on_root(comm, [&] {

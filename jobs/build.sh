@@ -1,7 +1,7 @@
 #!/bin/bash
 # Configure and build (Release) into build/, installing dependencies first
 # on Debian.  Without dpkg (another Linux, a cluster) nothing is installed:
-# load your PETSc, MPI, HDF5, CGAL and METIS (docs/building.md) and the
+# load your PETSc, MPI, HDF5, CGAL and METIS (docs/guide/building.md) and the
 # build, or an existing build/, is used as it is.
 #   bash jobs/build.sh                 every target: drivers and tests
 #   bash jobs/build.sh lem_fracture    only the named targets (and what they need)
@@ -10,7 +10,7 @@ root="$(cd "$(dirname "$0")/.." && pwd)"
 if command -v dpkg-query > /dev/null; then
   bash "$root/jobs/install-deps.sh"
 else
-  echo "build.sh: no dpkg on this host: jobs/install-deps.sh skipped (docs/building.md)" >&2
+  echo "build.sh: no dpkg on this host: jobs/install-deps.sh skipped (docs/guide/building.md)" >&2
 fi
 targets=()
 for t in "$@"; do targets+=(--target "$t"); done

@@ -1,5 +1,5 @@
 #!/bin/bash
-# CI proof of the CMake package (docs/building.md): lem3d built a second
+# CI proof of the CMake package (docs/guide/building.md): lem3d built a second
 # time, with the `cluster` preset, against a PETSc found only through
 # PETSC_DIR/PETSC_ARCH (Debian's PETSc tree, pkg-config's own search hidden),
 # without the tests; installed into a prefix; a project outside lem3d built

@@ -4,7 +4,7 @@
 set -euo pipefail
 if ! command -v dpkg-query > /dev/null; then
   echo "install-deps.sh: no dpkg: this script is for Debian 12; install PETSc, MPI," \
-       "parallel HDF5, CGAL and METIS yourself (docs/building.md)" >&2
+       "parallel HDF5, CGAL and METIS yourself (docs/guide/building.md)" >&2
   exit 1
 fi
 packages=(build-essential cmake pkg-config git petsc-dev libmetis-dev libcgal-dev

@@ -8,7 +8,7 @@
 # computes nothing (pass -output_overwrite to compute it again).
 # Extra arguments are passed to lem_fracture (PETSc options).
 #
-# Executables (docs/building.md, "Running the installed programs"): those
+# Executables (docs/guide/building.md, "Running the installed programs"): those
 # of build/, built first by jobs/build.sh; with LEM_BIN=DIR (the bin/ of an
 # install, or another build folder) those of DIR, and nothing is built.
 # The copy installed as <prefix>/share/lem3d/jobs/main.sh runs <prefix>/bin

@@ -3,7 +3,7 @@
 # ranks than cores are allowed.  Usage: jobs/mpirun.sh [-n] NRANKS program [args]
 # (with -n it can stand for mpirun in LEM_MPIRUN: jobs/study-local.sh)
 #
-# Stop requests (docs/reliability.md, "Stop signals"): Open MPI 4.1's mpirun
+# Stop requests (docs/developer/reliability.md, "Stop signals"): Open MPI 4.1's mpirun
 # passes SIGUSR1 on to the ranks, but answers SIGTERM by killing them
 # (SIGTERM 1 s later, SIGKILL 1 s after that) and exits 1 whatever they do.
 # So this script runs mpirun as its child and hands it SIGUSR1 for either

@@ -4,7 +4,7 @@
 # skips complete runs and resumes interrupted ones from their checkpoints.
 # Usage: jobs/study-local.sh STUDY.yaml OUT_DIR [--ranks N]
 # LEM_BIN=DIR: the lem_* programs of DIR (e.g. the bin/ of an install), and
-# nothing is built (docs/building.md).  The launcher is jobs/mpirun.sh (this
+# nothing is built (docs/guide/building.md).  The launcher is jobs/mpirun.sh (this
 # machine's flags) unless LEM_LAUNCHER / LEM_MPIRUN say otherwise; the Python
 # is $LEM_PYTHON (jobs/python.sh).
 set -euo pipefail

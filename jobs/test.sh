@@ -1,5 +1,5 @@
 #!/bin/bash
-# Build and run the tests (docs/testing.md, "Tiers").
+# Build and run the tests (docs/developer/testing.md, "Tiers").
 #   bash jobs/test.sh          the quick tier: every module and promise in at
 #                              least one test (ctest -L quick, pytest -m "not long")
 #   bash jobs/test.sh --all    every test, as CI runs them

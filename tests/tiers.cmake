@@ -1,4 +1,4 @@
-# Test tiers and groups (docs/testing.md, "Tiers").  Every test gets one
+# Test tiers and groups (docs/developer/testing.md, "Tiers").  Every test gets one
 # tier label, `quick` or `long`, and one group label from its name.
 #   quick  what `bash jobs/test.sh` runs after every change: every module and
 #          every promise in at least one test, in about two minutes
@@ -73,7 +73,7 @@ set(LEM_TEST_GROUPS
   "^fracture_warnings_:warnings"
   "^fracture_:fracture"
   "^(tension_|sample_driver$|sample_driver_cells$|stiffness_driver|results_readers$|study_):drivers"
-  "^(layering|phase_names):layout")
+  "^(layering|phase_names|options_reference):layout")
 
 function(lem_label_tests)
   get_property(tests DIRECTORY PROPERTY TESTS)

@@ -48,7 +48,7 @@ struct BridgeSpec {
   /// Eligible pairs: surface gap <= max_gap (a length, like the radii).  The
   /// paper states gap <= d_min, which here makes ~29 pairs per particle
   /// eligible; its ~9 matrix bridges per particle match a gap of 0.15 d_min
-  /// (docs/cemented-samples.md), the default.
+  /// (docs/model/cemented-samples.md), the default.
   double max_gap = 0.15;
   double max_lambda = 3.0;        // widest bridge allowed (pore-space limit)
   /// Not a property of the bridges but of the phases the matrix stage

@@ -56,7 +56,7 @@ inline void receive_bytes(MPI_Comm comm, void* data, std::uint64_t n, int from, 
 /// While one is alive, an allgather or a vector broadcast of more than
 /// `bytes` is a logic error: the check that a run moves only O(events)
 /// through whole-communicator collectives, never a per-node or per-bond
-/// array (the test hook LEM_COLLECTIVE_LIMIT, docs/testing.md).
+/// array (the test hook LEM_COLLECTIVE_LIMIT, docs/developer/testing.md).
 class CollectiveByteLimit {
  public:
   explicit CollectiveByteLimit(std::uint64_t bytes) : before_(current()) { current() = bytes; }

@@ -158,7 +158,7 @@ void install_result(const std::string& dir, bool exchange, const ResultNames& ow
 
 /// Test hook: if the environment variable LEM_FAULT_KILL names `point`, the
 /// process kills itself with SIGKILL there, as a batch system's kill -9
-/// would (tests of the commit windows; docs/testing.md).
+/// would (tests of the commit windows; docs/developer/testing.md).
 void fault_point(const char* point);
 
 }  // namespace lem

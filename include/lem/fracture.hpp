@@ -48,7 +48,7 @@ struct FractureResult : FractureTally {
   std::string end_reason;
   double seconds = 0;
   bool resumed = false;
-  std::vector<RunWarning> warnings;  // degradations seen (docs/fracture.md, "Warnings")
+  std::vector<RunWarning> warnings;  // degradations seen (docs/model/fracture.md, "Warnings")
   /// Bonds broke and the stress fell after its peak: the peak is the
   /// lattice's strength, not the last load reached.
   bool past_peak() const { return broken_total() > 0 && final_stress < peak_stress; }

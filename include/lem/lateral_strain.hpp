@@ -1,7 +1,7 @@
 // The lateral strains of a sample in uniaxial tension, measured from the
 // displacements of its lateral faces without the rigid rotation about z that
 // the boundary conditions leave to the three anchoring constraints
-// (docs/theory.md, "Tension").
+// (docs/model/theory.md, "Tension").
 #pragma once
 
 #include "lem/distributed_lattice.hpp"

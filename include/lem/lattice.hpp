@@ -88,7 +88,7 @@ Lattice make_random_lattice(const RandomLatticeSpec& spec);
 /// cells per axis, bond length `a`, Hooke constant `k`.  Bonds lying in a face
 /// of the block get k/2 and bonds along an edge k/4: the block is then exactly
 /// a share of the infinite lattice, and a homogeneous strain is an exact
-/// equilibrium even with free faces (see docs/theory.md).
+/// equilibrium even with free faces (see docs/model/theory.md).
 Lattice make_fcc_lattice(std::array<int, 3> cells, double a, double k);
 /// The same block measured in half cells (spacings of c/2 = a/sqrt 2) per
 /// axis: make_fcc_lattice(cells) is make_fcc_block(2 cells).  With an odd

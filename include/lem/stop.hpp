@@ -35,7 +35,7 @@ std::string signal_name(int signal);
 /// `point` or `point:<n>`, the n-th time (default 1) the run passes `point`
 /// every rank prints "test hook: paused at <point> ..." (rank 0 also its pid,
 /// every rank its own on stderr) and waits until a stop signal reaches some
-/// rank, so that a test can signal a run at an exact point (docs/testing.md).
+/// rank, so that a test can signal a run at an exact point (docs/developer/testing.md).
 /// The wait ends after 120 s without a signal.  `detail` is added to the
 /// message.
 void fault_pause(MPI_Comm comm, const char* point, const std::string& detail = "");

@@ -55,7 +55,7 @@ class WriteWatch {
 /// name of `file`, the last rank of `comm` prints "test hook: rank R (pid P)
 /// stalls in the write of <file>" and waits there for 120 s, deaf to stop
 /// requests, as a rank held by a hung filesystem would, while the others go
-/// into the write's collective calls (docs/testing.md).
+/// into the write's collective calls (docs/developer/testing.md).
 void fault_stall(MPI_Comm comm, const std::string& file);
 
 /// Seconds a collective write may go on after a stop request before the job

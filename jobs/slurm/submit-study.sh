@@ -12,7 +12,7 @@
 #   e.g. submit-study.sh jobs/studies/paper.yaml results/paper -A proj -p compute \
 #          --time=00:30:00 calibrate:--time=02:00:00 runs:--time=12:00:00
 # sbatch's own variables (SBATCH_ACCOUNT, SBATCH_PARTITION, SBATCH_QOS,
-# SBATCH_TIMELIMIT...) apply to every job as well.  Environment (docs/cluster.md):
+# SBATCH_TIMELIMIT...) apply to every job as well.  Environment (docs/guide/cluster.md):
 # LEM_PYTHON, LEM_BIN, LEM_LAUNCHER, LEM_SRUN, LEM_MPIRUN reach the jobs.
 # Calibration and run tasks requeue themselves from their checkpoints before
 # their time limit; a failed stage cancels the ones after it but the gather

@@ -414,7 +414,7 @@ void check_option_names(MPI_Comm comm) {
                                     [](const OptionRecord& r) { return r.petsc_default; });
     throw HelpShown(std::string("-help: these are the program's options") +
                     (solver ? "; the solver also takes PETSc's standard -ksp_*, -pc_* and "
-                              "-mat_* options (docs/user-guide.md)" : "") +
+                              "-mat_* options (docs/reference/options.md)" : "") +
                     ". Nothing was run.");
   }
 }

@@ -1,5 +1,5 @@
 // Jammed packing of polydisperse frictionless spheres by isotropic compaction
-// in a periodic box (see packing.hpp and docs/packing.md); the soft-sphere
+// in a periodic box (see packing.hpp and docs/model/packing.md); the soft-sphere
 // system it compresses is in compactor.hpp.
 //
 // Internally lengths are in units of d_min and the contact stiffness and the

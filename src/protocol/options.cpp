@@ -67,7 +67,7 @@ FractureOptions read_fracture_options(MPI_Comm comm) {
         "never for this reason)", o.rebuild_iteration_growth, 0.0, 1e6);
   }
   {
-    OptionGroup g(comm, "Relaxation after ruptures (docs/fracture.md)");
+    OptionGroup g(comm, "Relaxation after ruptures (docs/model/fracture.md)");
     o.relaxation = g.choice<RelaxationScheme>(
         "-fracture_relaxation", "global: every relaxation cycle is a global solve (the "
         "reference); local (experimental): relax patches around the new ruptures first, break "
@@ -113,7 +113,7 @@ FractureOptions read_fracture_options(MPI_Comm comm) {
                         o.tie_rtol, 0.0, 1.0, true);
   }
   {
-    OptionGroup g(comm, "Warnings of a degraded result (docs/fracture.md, \"Warnings\")");
+    OptionGroup g(comm, "Warnings of a degraded result (docs/model/fracture.md, \"Warnings\")");
     o.warn_energy_error = g.real(
         "-fracture_warn_energy", "Warn when the energy balance error |W - E - R|/W at the end "
         "exceeds this (converged runs: below 1e-5; a loose -ksp_rtol raises it; 0: no check)",

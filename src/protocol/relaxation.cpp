@@ -80,7 +80,7 @@ SolveReport Relaxation::solve_for_decision(double top_displacement) {
   // the last interval (CG shrinks the error by a roughly steady factor per
   // iteration; a residual-based tail rho/(1-rho) was tried and is too
   // optimistic: the residual converges faster than the slow modes of the
-  // error, docs/fracture.md).  The iterate of the last check is kept beside
+  // error, docs/model/fracture.md).  The iterate of the last check is kept beside
   // the field: it is the certificate of what the field decides.
   std::vector<double> decided;
   early.decided = [&] {

@@ -48,7 +48,7 @@ bool read_face_bond_option(OptionGroup& g) {
   return g.choice<bool>(
       "-lattice_face_bonds", "Bonds lying in a box face: whole = full stiffness and strength "
       "(a stiffer skin, the default and every published figure), halved = 1/2 per face they "
-      "lie in, as the box-clipped Voronoi cells of their nodes (docs/theory.md)",
+      "lie in, as the box-clipped Voronoi cells of their nodes (docs/model/theory.md)",
       {{"whole", false}, {"halved", true}}, false);
 }
 

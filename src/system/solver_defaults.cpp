@@ -12,7 +12,7 @@
 namespace lem {
 namespace {
 
-// Solver defaults measured on this problem (docs/performance.md).  They are
+// Solver defaults measured on this problem (docs/benchmarks.md).  They are
 // set on the objects before KSPSetFromOptions, so any -ksp_*/-pc_*/-mg_*
 // option overrides them; this table only documents them (-help, provenance)
 // and must follow apply_solver_defaults() and default_no_inodes().
@@ -132,14 +132,14 @@ SolverOptions read_solver_options(MPI_Comm comm) {
                "to its rest position, relative to the mean nodal stiffness.  Phase "
                "patterns and ruptures leave hinged clusters (mechanisms) that make K "
                "singular and the multigrid preconditioner indefinite; 1e-10 removes them "
-               "and changes E_eff by < 1e-6 relative (docs/cemented-samples.md); 0 "
+               "and changes E_eff by < 1e-6 relative (docs/model/cemented-samples.md); 0 "
                "disables", o.ground_stiffness, 0.0, 1e-3);
     o.particle_deflation =
         g.flag("-solver_particle_deflation", "Deflate the six rigid-body modes of every "
                "particle around the preconditioner (a coarse space of 6 unknowns per "
                "particle, solved exactly).  For porous cemented samples, where stiff "
                "particles joined by a few soft bridges make CG slow "
-               "(docs/performance.md); needs a cemented sample", o.particle_deflation);
+               "(docs/benchmarks.md); needs a cemented sample", o.particle_deflation);
     o.solver_operator = g.choice<SolverOperator>(
         "-solver_operator", "What CG multiplies by: the assembled matrix K, or K applied "
         "bond by bond from each bond's stiffness and direction (less memory traffic per "

@@ -1,5 +1,5 @@
 #!/bin/bash
-# Stop requests honoured at any time (docs/reliability.md, "Stop signals"):
+# Stop requests honoured at any time (docs/developer/reliability.md, "Stop signals"):
 # lem_fracture on the mini sample at 2 ranks is paused at an exact point by
 # the test hook LEM_FAULT_PAUSE, signalled there for real, and must end with
 # exit 4 and a checkpoint (or its complete result); the same command again

@@ -1,5 +1,5 @@
 #!/bin/bash
-# A degraded run warns (docs/fracture.md, "Warnings"): rank 0 prints one line
+# A degraded run warns (docs/model/fracture.md, "Warnings"): rank 0 prints one line
 # on stderr naming the cause and the option to change, the summary lists the
 # warning, and -fracture_strict makes it an error (exit 2, no summary).  A
 # sound run warns of nothing.  lem_fracture at 1 rank (an MPI singleton).

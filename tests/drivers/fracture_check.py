@@ -3,7 +3,7 @@
 
   fracture_check.py fcc  --run "CMD" --dir D --cells N --increment d --break-strain e [--k k]
       runs CMD (an mpiexec line ending in lem_fracture) on an FCC lattice and
-      compares every result with its closed form (docs/testing.md).
+      compares every result with its closed form (docs/developer/testing.md).
   fracture_check.py gold --run "CMD" --dir D --gold G [--tolerances T] [-- args]
       runs CMD with args and compares the results with G/summary.json and
       G/curve.csv within the tolerances of T (default G/tolerances.json,
@@ -110,7 +110,7 @@ def fcc(a):
     n = a.cells
     side = n * math.sqrt(2.0)          # cube side c = a sqrt 2, a = 1
     volume = side ** 3
-    young = 2.0 * math.sqrt(2.0) / 3.0  # k/a units (docs/theory.md)
+    young = 2.0 * math.sqrt(2.0) / 3.0  # k/a units (docs/model/theory.md)
     strain = lambda step: step * a.increment / side
     # A bond of the four inclined directions breaks when eps/3 > break strain.
     critical = 3.0 * a.break_strain * side / a.increment
@@ -238,7 +238,7 @@ def gold(a):
                       round(abs(s["strain_at_peak"] - want["strain_at_peak"]) / per_step, 6),
                       tol["peak_increments"])
     check.at_most("energy_balance_error", s["energy_balance_error"], tol["energy_balance_error"])
-    # A sound run at the paper's increment warns of nothing (docs/fracture.md, "Warnings").
+    # A sound run at the paper's increment warns of nothing (docs/model/fracture.md, "Warnings").
     check.equal("warnings", s.get("warnings"), [])
     pre_peak, mean = curve_differences(read_curve(a.dir), read_curve(a.gold))
     check.at_most("curve up to the peak, max", pre_peak, tol["curve_pre_peak_max"])

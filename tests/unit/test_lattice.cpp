@@ -131,7 +131,7 @@ TEST(FccLattice, CountsAndAffineModuli) {
   const auto stats = lattice_stats(l);
   EXPECT_DOUBLE_EQ(stats.mean_length, 1.0);
   // With face bonds at half stiffness the block is an exact share of the
-  // infinite lattice: C11 = sqrt2 k/a, C12 = C44 = k/(sqrt2 a) (docs/theory.md).
+  // infinite lattice: C11 = sqrt2 k/a, C12 = C44 = k/(sqrt2 a) (docs/model/theory.md).
   const AffineModuli m = affine_moduli(l);
   const double k = 2.0;
   EXPECT_NEAR(m.C[0][0], std::sqrt(2.0) * k, 1e-12);

@@ -241,7 +241,7 @@ def markdown(results, labels, spec, level_l_n, made_by="tools/study.py gather"):
              "*scatter ≥ error from*: the coarsest resolution from which on a single run's "
              "scatter is at least its distance to the extrapolated value; L_n\\*: where the "
              "fitted line is one scatter (pooled standard deviation) away from its intercept; "
-             "docs/convergence-study.md." % made_by, ""]
+             "docs/convergence.md." % made_by, ""]
     for quantity, _, heading in labels:
         keys = sorted((k for k in results if k[0] == quantity),
                       key=lambda k: (k[1], -1 if k[2] is None else k[2]))

@@ -26,7 +26,7 @@ Study file keys (YAML; anything else is an error):
   phases             E_p, E_m, E_pp, E_pm, sigma_p (defaults: the paper's
                      3, 1, 1, 1 and 0.01; sigma^m = sigma^p, sigma^pp = 0)
   fracture           lem_fracture / PETSc options of every run, without the dash
-Resolution and replicate axes (optional; docs/convergence-study.md):
+Resolution and replicate axes (optional; docs/convergence.md):
   lattice_bonds or lattice_bonds_per_particle   list of lattice sizes
   pack_seeds, lattice_seeds                     lists of lem_sample seeds
   replicates_up_to   bond-axis value up to which every seed pair is run
@@ -629,7 +629,7 @@ and writes, in the study's output folder:
                               tail exponent beta of the node stresses (fig. 8),
                               with the paper's values as stars
 Each figure says its resolution in its subtitle.  A study with a bond axis
-or replicates (docs/convergence-study.md) draws these at one size, the
+or replicates (docs/convergence.md) draws these at one size, the
 finest whose fracture runs are all complete: each point the mean over its
 replicates (the seeds at that size) with ±1 standard deviation as error
 bars, eq. 10 fitted to these means (fit.json: figures_lattices), and adds:

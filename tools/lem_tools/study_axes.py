@@ -20,7 +20,7 @@ every matrix fraction is built on every lattice of
                                            adhesive contacts)
 
 The mesh density of a lattice is the paper's L_n = M^(-1/3), M its number of
-bonds (as lem_sample reports it; docs/theory.md).
+bonds (as lem_sample reports it; docs/model/theory.md).
 """
 import math
 

@@ -7,21 +7,21 @@ and per step with ruptures), preconditioner builds and wall time. The
 counts come from the cumulative columns of curve.csv (curve.csv.part while
 a run is going); the peak is the summary's strain_at_peak, or for a
 calibration the strain of the largest stress before ruptures. Used for the
-relaxation benchmarks of docs/performance.md.
+relaxation measurements of docs/notes/performance-relaxation-schemes.md.
 
 With --margins M1,M2,... it also reads broken.csv and prints, after the
 peak, the share of the ruptures whose force was within a margin m of their
 threshold (force <= (1 + m) threshold) and the share of the batches (the
 ruptures of one relaxation cycle) that hold such a rupture: the batches
 that a local relaxation certified by a margin m must leave to a global
-solve (docs/fracture.md, "Relaxation schemes").
+solve (docs/model/fracture.md, "Relaxation schemes").
 
 With --floor it also prints, stage by stage, the least work that the rules
 of the protocol allow: every load step with ruptures ends on a global solve
 to -ksp_rtol, so it costs at least one such solve. Its size is taken from
 the stage's steps that broke one batch and needed one solve (the median of
 their iterations), its time from the stage's seconds per CG iteration
-(docs/performance.md, "The floor under the protocol's rules").
+(docs/notes/performance-complete-failure-tail.md).
 """
 import os
 

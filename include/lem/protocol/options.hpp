@@ -58,7 +58,7 @@ struct FractureOptions {
   double weibull_modulus = 6.0;      // weibull: mean-one Weibull factor
   std::uint64_t disorder_seed = 1;
   std::array<bool, kPhaseCount> disorder_phases{true, true, false, true, true};
-  // Warnings of a degraded result (docs/fracture.md, "Warnings"): an energy
+  // Warnings of a degraded result (docs/model/fracture.md, "Warnings"): an energy
   // balance error above warn_energy_error, a peak reached before load step
   // warn_peak_steps (0: either check off); strict makes every warning,
   // the fallback solver's included, an error (exit 2).

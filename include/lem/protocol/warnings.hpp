@@ -1,5 +1,5 @@
 // Warnings of a run that completes but whose result is degraded
-// (docs/fracture.md, "Warnings"): rank 0 prints each on stderr as one line
+// (docs/model/fracture.md, "Warnings"): rank 0 prints each on stderr as one line
 // naming the cause and the option to change, the result lists them, and
 // -fracture_strict makes them errors (NumericalError, exit 2).
 #pragma once

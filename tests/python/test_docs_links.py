@@ -1,0 +1,106 @@
+"""The README and docs/ link only to files and headings that exist, and the user
+pages carry no history: a moved or renamed page or heading fails here."""
+import os
+import re
+
+import pytest
+
+ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
+LINK = re.compile(r"!?\[[^\]]*\]\(([^)\s]+)\)")
+FENCE = re.compile(r"^(```|~~~)")
+
+
+def markdown_pages():
+    pages = [os.path.join(ROOT, "README.md")]
+    for folder, _, files in os.walk(os.path.join(ROOT, "docs")):
+        pages += [os.path.join(folder, f) for f in sorted(files) if f.endswith(".md")]
+    return pages
+
+
+def prose_lines(path):
+    """(number, line) of a page outside its fenced code blocks."""
+    fenced = False
+    with open(path, encoding="utf-8") as f:
+        for number, line in enumerate(f, 1):
+            if FENCE.match(line.strip()):
+                fenced = not fenced
+            elif not fenced:
+                yield number, line
+
+
+def anchor(heading):
+    """The anchor GitHub gives a heading: lower case, punctuation dropped,
+    spaces to hyphens (letters of any script kept)."""
+    text = re.sub(r"[^\w\- ]", "", heading.strip().lower())
+    return text.replace(" ", "-")
+
+
+def anchors(path):
+    seen, result = {}, set()
+    for _, line in prose_lines(path):
+        match = re.match(r"#{1,6} (.*)", line)
+        if not match:
+            continue
+        base = anchor(match.group(1))
+        count = seen.get(base, 0)
+        seen[base] = count + 1
+        result.add(base if count == 0 else "%s-%d" % (base, count))
+    return result
+
+
+def broken_links(path):
+    problems = []
+    for number, line in prose_lines(path):
+        for target in LINK.findall(line):
+            if re.match(r"[a-z]+:", target):  # http:, https:, mailto:
+                continue
+            file_part, _, fragment = target.partition("#")
+            resolved = os.path.normpath(os.path.join(os.path.dirname(path), file_part)) \
+                if file_part else path
+            where = "%s:%d: %s" % (os.path.relpath(path, ROOT), number, target)
+            if not os.path.exists(resolved):
+                problems.append(where + " (no such file)")
+            elif fragment and resolved.endswith(".md") and fragment not in anchors(resolved):
+                problems.append(where + " (no such heading)")
+    return problems
+
+
+def missing_mentions(path):
+    """Pages named in the prose (`docs/fracture.md`, `theory.md`) that exist
+    neither beside the page, nor from the root, nor under docs/."""
+    problems = []
+    for number, line in prose_lines(path):
+        for name in re.findall(r"(?<![\w/.(-])((?:[\w-]+/)*[\w-]+\.md)\b", line):
+            if re.match(r"(results|[A-Z_]+)/", name):  # a result folder, a placeholder
+                continue
+            places = [os.path.dirname(path), ROOT, os.path.join(ROOT, "docs")]
+            if not any(os.path.exists(os.path.join(p, name)) for p in places):
+                problems.append("%s:%d: %s" % (os.path.relpath(path, ROOT), number, name))
+    return problems
+
+
+def test_every_page_named_exists():
+    problems = [p for page in markdown_pages() for p in missing_mentions(page)]
+    assert not problems, "\n".join(problems)
+
+
+def test_every_link_resolves():
+    problems = [p for page in markdown_pages() for p in broken_links(page)]
+    assert not problems, "\n".join(problems)
+
+
+@pytest.mark.parametrize("page", [p for p in markdown_pages()
+                                  if os.sep + "notes" + os.sep not in p],
+                         ids=lambda p: os.path.relpath(p, ROOT))
+def test_user_pages_name_no_issue(page):
+    """History (issue numbers, work in progress) belongs to docs/notes/ and git."""
+    found = ["%d: %s" % (n, line.strip()) for n, line in prose_lines(page)
+             if re.search(r"\bissues? \d+|\bin progress\b", line, re.IGNORECASE)]
+    assert not found, "\n".join(found)
+
+
+def test_anchor_rule():
+    assert anchor("Decided solves (`-fracture_decision_safety`)") == \
+        "decided-solves--fracture_decision_safety"
+    assert anchor("Fracture at 10⁷ bonds") == "fracture-at-10⁷-bonds"
+    assert anchor("The paper against ours") == "the-paper-against-ours"
