@@ -104,3 +104,29 @@ def test_anchor_rule():
         "decided-solves--fracture_decision_safety"
     assert anchor("Fracture at 10⁷ bonds") == "fracture-at-10⁷-bonds"
     assert anchor("The paper against ours") == "the-paper-against-ours"
+
+
+# Options the user pages name on purpose although no program reads them.
+NOT_OPTIONS = {"-lattice_node"}  # the typo of the unknown-option example
+PETSC_OPTION = re.compile(r"-(ksp|pc|mg|mat|log|fallback|vec|options|patch_ksp|patch_pc|"
+                          r"deflation_coarse)_")
+
+
+def test_every_option_named_exists():
+    """An option named on a user page is one the programs read (their -help,
+    as written to docs/reference/options.md) or one of PETSc's."""
+    with open(os.path.join(ROOT, "docs", "reference", "options.md"), encoding="utf-8") as f:
+        known = set(re.findall(r"\| `(-[a-z0-9_]+)` \|", f.read()))
+    assert len(known) > 100
+    unknown = []
+    for page in markdown_pages():
+        if os.sep + "notes" + os.sep in page:
+            continue
+        with open(page, encoding="utf-8") as f:
+            for number, line in enumerate(f, 1):
+                for name in re.findall(r"(?<![\w-])(-[a-z][a-z0-9]*_[a-z0-9_]*)", line):
+                    if name in known or name in NOT_OPTIONS or PETSC_OPTION.match(name + "_") \
+                            or name.endswith("_"):
+                        continue
+                    unknown.append("%s:%d: %s" % (os.path.relpath(page, ROOT), number, name))
+    assert not unknown, "\n".join(unknown)
