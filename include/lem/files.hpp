@@ -81,6 +81,9 @@ struct Manifest {
   /// file_checksum of each listed file, by name (none in a manifest
   /// written before checksums: its files are checked by size only).
   std::vector<std::pair<std::string, std::string>> checksums;
+  /// Codes of the degradations the result carries ("code:count"; none for
+  /// a sound run or a manifest written before they were listed).
+  std::vector<std::string> warnings;
 };
 
 /// Rank 0: whether `dir` has a manifest (damaged or not).
@@ -95,10 +98,12 @@ std::optional<Manifest> read_manifest(const std::string& dir);
 /// are.
 std::string manifest_mismatch(const std::string& dir, const Manifest& m);
 
-/// Rank 0: commit the complete result `files` of `dir` (which must exist):
-/// each is synced, then the manifest is written atomically, last.
+/// Rank 0: commit the complete result `files` of `dir` (which must exist),
+/// with the `warnings` it carries: each file is synced, then the manifest is
+/// written atomically, last.
 void commit_results(const std::string& dir, const std::string& program,
-                    const std::string& fingerprint, const std::vector<std::string>& files);
+                    const std::string& fingerprint, const std::vector<std::string>& files,
+                    const std::vector<std::string>& warnings = {});
 
 /// Rank 0: withdraw the result of `dir`: the manifest is removed first (and
 /// the removal synced), then `files`.

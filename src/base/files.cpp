@@ -227,6 +227,7 @@ std::string file_checksum(const std::string& path) {
 namespace {
 constexpr char kFileKey[] = "file=";
 constexpr char kChecksumKey[] = "checksum=";
+constexpr char kWarningKey[] = "warning=";
 constexpr char kProgramKey[] = "program=";
 constexpr char kFingerprintKey[] = "fingerprint ";
 }  // namespace
@@ -260,6 +261,8 @@ std::optional<Manifest> read_manifest(const std::string& dir) {
       if (!(fields >> name >> size) || size < 0)
         throw InputError("the manifest '" + path + "' is damaged (line '" + line + "')");
       m.files.emplace_back(name, size);
+    } else if (line.rfind(kWarningKey, 0) == 0) {
+      m.warnings.push_back(line.substr(sizeof(kWarningKey) - 1));
     } else if (line.rfind(kChecksumKey, 0) == 0) {
       std::istringstream fields(line.substr(sizeof(kChecksumKey) - 1));
       std::string name, sum;
@@ -302,7 +305,8 @@ std::string manifest_mismatch(const std::string& dir, const Manifest& m) {
 }
 
 void commit_results(const std::string& dir, const std::string& program,
-                    const std::string& fingerprint, const std::vector<std::string>& files) {
+                    const std::string& fingerprint, const std::vector<std::string>& files,
+                    const std::vector<std::string>& warnings) {
   std::ostringstream out;
   out << "# The result in this folder is complete: written last, after every file below\n"
       << "# was in place and synced.  Without this file the folder holds no finished result.\n"
@@ -320,6 +324,7 @@ void commit_results(const std::string& dir, const std::string& program,
   // tools before checksums) read "file=<name> <size>" lines only.
   for (const auto& name : files)
     out << kChecksumKey << name << " " << file_checksum(dir + "/" + name) << "\n";
+  for (const auto& w : warnings) out << kWarningKey << w << "\n";
   std::istringstream in(fingerprint);
   for (std::string line; std::getline(in, line);) out << kFingerprintKey << line << "\n";
   out << "end\n";

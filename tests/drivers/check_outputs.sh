@@ -221,7 +221,7 @@ overwrite_kill | overwrite_kill_renames)
     d="$work/${point/:/_}"
     cp -a "$work/whole" "$d"
     echo '{"study": 1}' > "$d/run.json"   # not lem's: stays with the folder
-    touch "$d/fracture.png"               # drawn from the old result: goes with it
+    touch "$d/fracture.png" "$d/fracture.pdf" "$d/stress.pdf"  # drawn from the old result: go with it
     old=$(result_digest "$d")
     case "$point" in
     *:* | fields) pause_kill "$point" "$d" -output_overwrite; status=$? ;;
@@ -276,7 +276,7 @@ overwrite_kill | overwrite_kill_renames)
     same_result "$work/whole" "$d"
     valid "$d" || fail "$point: the result is not valid"
     [ ! -e "$d.overwrite" ] || fail "$point: $d.overwrite is left"
-    for f in .superseded .overwrite_of .replaced fracture.png; do
+    for f in .superseded .overwrite_of .replaced fracture.png fracture.pdf stress.pdf; do
       [ ! -e "$d/$f" ] || fail "$point: $d/$f is left"
     done
     grep -q study "$d/run.json" 2> /dev/null || fail "$point: run.json was lost"

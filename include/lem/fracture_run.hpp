@@ -1,0 +1,44 @@
+// A whole lem_fracture run around the protocol (lem/fracture.hpp): the
+// sample prepared (thresholds of generated lattices, disorder), the units
+// decided, sigma^[p] and E^[p] calibrated on the homogeneous lattice or
+// read from their store, the protocol run in its result folder
+// (result_folder.hpp), and the summary committed with the result.
+#pragma once
+
+#include "lem/elastic_system.hpp"
+#include "lem/fracture.hpp"
+#include "lem/provenance.hpp"
+#include "lem/setup.hpp"
+
+#include <mpi.h>
+
+#include <cstdint>
+#include <string>
+
+namespace lem {
+
+/// How a fracture run is normalised and where it writes ("Fracture run and
+/// output"; the protocol's own options are FractureOptions).
+struct FractureRunOptions {
+  double break_strain = 1e-3;     // generated lattices: f = k a eps_b
+  bool calibrate = true;          // sample files: sigma^[p], E^[p] first
+  std::string calibration_file;   // "": beside the sample, named by a hash
+  double sigma_unit = 0, modulus_unit = 0;  // given units (0: calibrate)
+  std::string output_dir = "results/fracture";
+  bool overwrite = false;
+  bool fields = true;              // fields.h5 and elastic.h5
+  std::int64_t snapshot_steps = 0;  // fields every this many load steps
+};
+
+/// Read the "Fracture run and output" options (also -output_write_grace).
+FractureRunOptions read_fracture_run_options(MPI_Comm comm);
+
+/// The run: nothing if the folder holds its finished result already.
+/// Collective.  Throws InputError for bad input (before the folder is
+/// touched), NumericalError, Interrupted after a stop request (the same
+/// call resumes).
+void run_fracture_job(MPI_Comm comm, const SampleOptions& sample,
+                      const FractureOptions& protocol, const FractureRunOptions& run,
+                      const SolverOptions& solver, const Provenance& provenance);
+
+}  // namespace lem

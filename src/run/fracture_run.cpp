@@ -1,0 +1,391 @@
+#include "lem/fracture_run.hpp"
+
+#include "lem/calibration.hpp"
+#include "lem/driver.hpp"
+#include "lem/error.hpp"
+#include "lem/log.hpp"
+#include "lem/options.hpp"
+#include "lem/phase.hpp"
+#include "lem/protocol/checkpoint.hpp"
+#include "lem/result_folder.hpp"
+#include "lem/setup.hpp"
+#include "lem/stop.hpp"
+#include "lem/tension_output.hpp"
+#include "lem/write_watch.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+
+namespace lem {
+
+namespace {
+
+// The calibration ends within the step whose stress falls below this
+// fraction of its peak: the homogeneous lattice fails in one avalanche, and
+// its cycles after the first tenth of the drop cannot change sigma^[p].
+constexpr double kCalibrationStopFraction = 0.9;
+
+// A sample set up for fracture: thresholds of generated lattices, disorder.
+struct Prepared {
+  DistributedLattice lattice;
+  SetupReport setup;
+  double stress_unit = 1;  // sigma_raw * stress_unit = sigma in E^phase (or k/a) units
+};
+
+struct Case {
+  FractureResult result;
+  SetupReport setup;
+  double stress_unit = 1;
+};
+
+Prepared prepare(MPI_Comm comm, const SampleOptions& sample, double break_strain,
+                 const FractureOptions& options) {
+  Prepared p;
+  p.lattice = setup_sample_lattice(comm, sample, p.setup);
+  DistributedLattice& lattice = p.lattice;
+  // Stress unit: a sample file's bonds have k = E^phase a_s and f =
+  // sigma^phase a_s^2, so its stresses are already in E^phase units; a
+  // generated lattice's are given in units of k/a (k = -lattice_k).
+  const bool from_file = !sample.sample_file.empty();
+  p.stress_unit = from_file ? 1.0 : lattice.mean_bond_length / sample.random.stiffness;
+  if (lattice.bond_strength.empty()) {  // generated lattice: f = k a eps_b
+    lattice.bond_strength.resize(lattice.bond_stiffness.size());
+    for (int b = 0; b < lattice.local_bonds(); ++b)
+      lattice.bond_strength[b] =
+          lattice.bond_stiffness[b] * lattice.mean_bond_length * break_strain;
+  }
+  apply_strength_disorder(lattice, options);
+  return p;
+}
+
+// Run the protocol on a prepared sample, write the fields.
+Case run_case(Prepared p, const SolverOptions& solver, FractureOptions options,
+              const Provenance& provenance, bool write_fields) {
+  Case c;
+  c.setup = p.setup;
+  c.stress_unit = options.stress_unit = p.stress_unit;
+  DistributedLattice& lattice = p.lattice;
+  say("lattice: %lld nodes, %lld bonds in the system, a = %.4g; output %s/\n",
+           (long long)c.setup.sample.stats.nodes, (long long)c.setup.active_bonds,
+           lattice.mean_bond_length, options.output_dir.c_str());
+  ElasticSystem system(lattice, solver);
+  check_unused_options(SolverStage::created);
+  system.assemble();
+  c.result = run_fracture(lattice, system, options, provenance);
+  if (write_fields) {
+    fault_pause(lattice.comm, "fields", "before the final fields");
+    Summary s;
+    s.add("steps", static_cast<long long>(c.result.steps));
+    write_tension_fields(options.output_dir + "/fields", lattice, system, provenance, s);
+  }
+  return c;
+}
+
+// A checkpoint that the protocol will resume from (rank 0 decides).
+bool resumable(MPI_Comm comm, const FractureOptions& options) {
+  int found = 0;
+  run_on_root(comm, [&] {
+    found = options.resume && std::filesystem::exists(checkpoint_path(options.output_dir));
+  });
+  MPI_Bcast(&found, 1, MPI_INT, 0, comm);
+  return found != 0;
+}
+
+// What the result of this run depends on, recorded in its manifest: the
+// checkpoint's fingerprint (sample, thresholds, protocol options), where the
+// run ends, and how it is normalised and written.
+std::string result_fingerprint(const DistributedLattice& lattice,
+                               const FractureOptions& o, bool calibrating, double sigma_unit,
+                               double modulus_unit, bool fields) {
+  std::ostringstream s;
+  s.precision(17);
+  s << fracture_fingerprint(lattice, o) << "stop_fraction=" << o.stop_fraction
+    << "\nmax_strain_ratio=" << o.max_strain_ratio << "\nmax_steps=" << o.max_steps
+    << "\ncalibrate=" << calibrating << "\nsigma_unit=" << sigma_unit
+    << "\nmodulus_unit=" << modulus_unit << "\nfields=" << fields
+    << "\nsnapshot_steps=" << o.snapshot_steps << "\n";
+  return s.str();
+}
+
+// sigma^[p] and E^[p]: from the calibration file of this lattice if there is
+// one, else by breaking the homogeneous lattice (and stored for next time);
+// the warnings of a calibration run go to `warnings`.
+Calibration calibrate(MPI_Comm comm, const SampleOptions& sample,
+                           const SolverOptions& solver, double break_strain,
+                           const FractureOptions& options, std::string path,
+                           const Provenance& provenance,
+                           std::vector<RunWarning>& warnings) {
+  SampleOptions hom = sample;
+  hom.homogeneous = true;
+  FractureOptions hom_options = options;
+  hom_options.output_dir = options.output_dir + "/calibration";
+  hom_options.strength_unit = sample.phases.strength[0];
+  // Only the peak is needed: stop once the avalanche that follows it has
+  // taken a tenth of the stress (docs/model/fracture.md, "Normalisation and the calibration").
+  hom_options.stop_fraction = std::max(options.stop_fraction, kCalibrationStopFraction);
+  hom_options.stop_within_step = true;
+  // -fracture_max_steps bounds the sample run, not its calibration.
+  hom_options.max_steps = FractureOptions{}.max_steps;
+  hom_options.checkpoint_seconds = 0;
+  hom_options.snapshot_steps = 0;
+  hom_options.elastic_fields = false;
+  Prepared p = prepare(comm, hom, break_strain, hom_options);
+  const std::string fingerprint = fracture_fingerprint(p.lattice, hom_options);
+  const bool chosen = !path.empty();
+  if (!chosen)
+    path = std::filesystem::path(sample.sample_file).replace_extension().string() +
+           ".calibration-" + calibration_key(fingerprint) + ".txt";
+  if (const auto stored = read_calibration(comm, path, fingerprint)) {
+    say("calibration: sigma^[p] = %.6g, E^[p] = %.6g (E^phase units) from %s\n",
+             stored->sigma_hom, stored->e_hom, path.c_str());
+    return *stored;
+  }
+  // A calibration stopped by a signal resumes from its checkpoint, whose
+  // logs may already carry their final names.
+  prepare_output_dir(comm, hom_options.output_dir,
+                          resumable(comm, hom_options) ? std::vector<std::string>{}
+                                                       : std::vector<std::string>{"curve.csv",
+                                                                                  "curve.json",
+                                                                                  "broken.csv"});
+  say("calibration: the homogeneous lattice (every bond E^p = %g, sigma^p = %g)\n",
+           sample.phases.modulus[0], sample.phases.strength[0]);
+  Case hom_case;
+  try {
+    hom_case = run_case(std::move(p), solver, hom_options, provenance, false);
+  } catch (const Interrupted& e) {
+    throw Interrupted(std::string("calibration ") + e.what());
+  }
+  warnings = hom_case.result.warnings;
+  run_on_root(comm, [&] { remove_checkpoint(hom_options.output_dir); });
+  // A calibration is the peak of the homogeneous lattice: bonds broke and
+  // the stress fell after it.  Anything else is not sigma^[p] and is never
+  // stored (a later run would reuse it).
+  const FractureResult& r = hom_case.result;
+  if (!r.past_peak()) {
+    std::ostringstream why;
+    why << "the calibration of sigma^[p] reached no peak: it ended at load step " << r.steps
+        << " (" << r.end_reason << ") with " << r.broken_total() << " bonds broken and the "
+        << "stress " << (r.final_stress < r.peak_stress ? "below" : "at") << " its largest value, "
+        << r.peak_stress * hom_case.stress_unit << " E^phase; load steps of -fracture_increment "
+        << "= " << options.increment << " a do not reach the strength of the homogeneous lattice "
+        << "(-phase_sigma_p = " << sample.phases.strength[0] << ") within "
+        << hom_options.max_steps << " steps: raise -fracture_increment (the paper's is "
+        << "3e-4), or check -phase_sigma_p. Nothing was stored";
+    throw InputError(why.str());
+  }
+  Calibration c;
+  c.sigma_hom = hom_case.result.peak_stress * hom_case.stress_unit;
+  c.e_hom = hom_case.result.young_modulus * hom_case.stress_unit;
+  say("calibration: sigma^[p] = %.6g, E^[p] = %.6g (E^phase units)\n", c.sigma_hom,
+           c.e_hom);
+  std::string stored = "stored in " + path;
+  try {
+    write_calibration(comm, path, fingerprint, c, provenance);
+    say("calibration: stored in %s\n", path.c_str());
+  } catch (const IoError& e) {
+    if (chosen) throw;
+    say("calibration: not stored (%s)\n", e.what());  // e.g. a read-only sample folder
+    stored = "not stored (" + std::string(e.what()) + "), so the next run calibrates again";
+  }
+  // A request that came while the calibration ended: stop before the sample.
+  if (const int signal = stop_requested(comm, "calibration_done"))
+    throw Interrupted("stopped by " + signal_name(signal) + " after the calibration: "
+                           "sigma^[p] and E^[p] " + stored + "; run the same command again "
+                           "to break the sample");
+  return c;
+}
+
+
+// The units of the curve and the summary (paper sect. 3): given, else the
+// calibration's sigma^[p] and E^[p], else the particle phase's own values
+// (sample files) or 1 (generated lattices, k/a units).
+void normalise(FractureOptions& o, const FractureRunOptions& run, const Calibration& c,
+               const SampleOptions& sample) {
+  const bool from_file = !sample.sample_file.empty();
+  const double e_p = sample.phases.modulus[0], s_p = sample.phases.strength[0];
+  o.strength_unit = run.sigma_unit > 0 ? run.sigma_unit : c.sigma_hom > 0 ? c.sigma_hom
+                                                        : from_file ? s_p : 1.0;
+  o.modulus_unit = run.modulus_unit > 0 ? run.modulus_unit : c.e_hom > 0 ? c.e_hom
+                                                           : from_file ? e_p : 1.0;
+}
+
+// summary.json / summary.csv of a finished run.
+Summary fracture_summary(MPI_Comm comm, const SampleOptions& sample, const FractureOptions& o,
+                         const Calibration& calibration, const Case& c,
+                         const std::vector<std::string>& warnings) {
+  const FractureResult& r = c.result;
+  const double e_eff = r.young_modulus * c.stress_unit, s_eff = r.peak_stress * c.stress_unit;
+  Summary s;
+  s.add("sample_file", sample.sample_file);
+  s.add("nodes", static_cast<long long>(c.setup.sample.stats.nodes));
+  s.add("active_bonds", static_cast<long long>(c.setup.active_bonds));
+  s.add("increment_over_a", o.increment);
+  s.add("break_rule", std::string(name_of(o.break_rule)));
+  s.add("sigma_unit", o.strength_unit, "stress");
+  s.add("E_unit", o.modulus_unit, "stress");
+  s.add("sigma_hom", calibration.sigma_hom, "stress");
+  s.add("E_hom", calibration.e_hom, "stress");
+  s.add("E_eff", e_eff, "stress");
+  s.add("E_eff_over_E_unit", e_eff / o.modulus_unit);
+  s.add("sigma_eff", s_eff, "stress");
+  s.add("sigma_eff_over_sigma_unit", s_eff / o.strength_unit);
+  s.add("strain_at_peak", r.strain_at_peak);
+  s.add("peak_step", static_cast<long long>(std::llround(r.peak_step)));
+  s.add("final_strain", r.final_strain);
+  s.add("final_stress_over_sigma_unit", r.final_stress * c.stress_unit / o.strength_unit);
+  s.add("broken", static_cast<long long>(r.broken_total()));
+  for (int k = 0; k < kPhaseCount; ++k)
+    if (static_cast<Phase>(k) != Phase::v)
+      s.add(std::string("broken_") + kPhaseNames[k], static_cast<long long>(r.broken[k]));
+  s.add("n_b", r.particle_damage());
+  const auto count = [&](const char* name, std::int64_t n) {
+    s.add(name, static_cast<long long>(n));
+  };
+  count("detached_bonds", r.detached_bonds);
+  count("pinned_nodes", r.pinned_nodes);
+  count("steps", r.steps);
+  count("visited_steps", r.visited_steps);
+  count("rupture_steps", r.rupture_steps);
+  count("relaxation_cycles", r.relaxation_cycles);
+  count("solves", r.solves);
+  count("early_stops", r.early_stops);
+  count("decided_steps", r.decided_steps);
+  count("tie_solves", r.tie_solves);
+  count("ksp_iterations", r.iterations);
+  count("pc_builds", r.preconditioner_builds);
+  count("fallback_solves", r.fallback_solves);
+  s.add("relaxation", std::string(name_of(o.relaxation)));
+  count("patch_solves", r.patch_solves);
+  count("patch_iterations", r.patch_iterations);
+  s.add("patch_nodes_mean", r.patch_solves > 0 ? static_cast<double>(r.patch_nodes) /
+                                                     static_cast<double>(r.patch_solves)
+                                               : 0.0);
+  count("patch_overflows", r.patch_overflows);
+  s.add("patch_error_max", r.patch_error_max);
+  count("patch_disabled_step", r.patch_disabled_step);
+  // A plain run solves at every step plus every relaxation cycle.
+  count("solves_stepping_estimate", r.steps + r.relaxation_cycles);
+  s.add("work", r.work, "lattice");
+  s.add("stored_energy", r.stored_energy, "lattice");
+  s.add("released_energy", r.released_energy, "lattice");
+  s.add("energy_balance_error", r.energy_balance_error);
+  s.add("end_reason", r.end_reason);
+  s.add("warnings", warnings);
+  count("resumed", r.resumed);
+  s.add("seconds", r.seconds, "s");
+  // Of this process: a resumed run reports its own part.
+  const PeakMemory memory = peak_memory(comm);
+  s.add("peak_memory_mb", memory.max_mb, "MB");
+  s.add("peak_memory_mean_mb", memory.mean_mb, "MB");
+  int ranks = 1;
+  MPI_Comm_size(comm, &ranks);
+  s.add("mpi_ranks", static_cast<long long>(ranks));
+  say("end: %s at step %lld\n", r.end_reason.c_str(), (long long)r.steps);
+  say("E_eff = %.6g (%.4f E_unit)   sigma_eff = %.6g (%.4f sigma_unit) at strain %.4e\n", e_eff,
+      e_eff / o.modulus_unit, s_eff, s_eff / o.strength_unit, r.strain_at_peak);
+  say("broken %lld bonds (n_b = %.4f), %lld solves (%lld iterations, %lld PC builds) over "
+      "%lld steps; energy balance error %.2e; %.1f s\n",
+      (long long)r.broken_total(), r.particle_damage(), (long long)r.solves,
+      (long long)r.iterations, (long long)r.preconditioner_builds, (long long)r.steps,
+      r.energy_balance_error, r.seconds);
+  return s;
+}
+
+}  // namespace
+
+FractureRunOptions read_fracture_run_options(MPI_Comm comm) {
+  FractureRunOptions o;
+  OptionGroup g(comm, "Fracture run and output");
+  o.break_strain = g.real("-lattice_break_strain", "Generated lattices: a bond breaks when "
+                          "stretched by this fraction of the mean bond length (f = k a eps)",
+                          1e-3, 0.0, 1.0, true);
+  o.calibrate = g.flag("-fracture_calibrate", "Sample files: first break the homogeneous "
+                       "lattice of particle bonds to measure sigma^[p] and E^[p] (paper "
+                       "sect. 3), written to <output_dir>/calibration/", true);
+  o.calibration_file = g.string("-fracture_calibration_file", "Sample files: where sigma^[p] "
+                                "and E^[p] are kept (read if it exists and belongs to this "
+                                "lattice and these options; written after calibrating); "
+                                "default: beside the sample file, named by a hash of both",
+                                "");
+  o.sigma_unit = g.real("-fracture_sigma_unit", "Normalise stresses by this value instead "
+                        "(E^phase units; e.g. sigma^[p] from an earlier calibration; 0: "
+                        "calibrate or use sigma^p)", 0.0, 0.0, 1e12);
+  o.modulus_unit = g.real("-fracture_modulus_unit", "Normalise moduli by this value instead "
+                          "(E^phase units; e.g. E^[p] from an earlier calibration; 0: "
+                          "calibrate or use E^p)", 0.0, 0.0, 1e12);
+  o.output_dir = g.string("-output_dir", "Directory of the results", "results/fracture");
+  o.overwrite = g.flag("-output_overwrite", "Compute the result again even if -output_dir "
+                       "holds a finished one (its manifest.txt), in <output_dir>.overwrite/: "
+                       "it replaces the old one only when complete; without it a finished "
+                       "run of the same sample and options is left as it is (exit 0)", false);
+  o.fields = g.flag("-output_fields", "Write the final displacements and bond states to "
+                    "HDF5/XDMF (fields.h5), and those of the first equilibrium with the node "
+                    "stresses of eq. 1 (elastic.h5)", true);
+  set_write_stop_grace(g.real(
+      "-output_write_grace", "Seconds a write that every rank waits for (fields, "
+      "snapshots, a checkpoint, also the one that answers the request) may go on after a "
+      "stop request (SIGTERM/SIGUSR1) before the job is ended without it (exit 4; the "
+      "same command resumes from the last checkpoint on disk); a write that failed on "
+      "some rank ends the job after 3 s (exit 3)", write_stop_grace(), 1.0, 86400.0));
+  o.snapshot_steps = g.integer("-output_snapshot_steps", "Also write them (as "
+                               "snapshot_<step>.h5/.xmf) once in every this many "
+                               "load steps (0: never)", 0, 0, 1'000'000'000);
+  return o;
+}
+
+void run_fracture_job(MPI_Comm comm, const SampleOptions& sample,
+                      const FractureOptions& protocol, const FractureRunOptions& run,
+                      const SolverOptions& solver, const Provenance& provenance) {
+  FractureOptions options = protocol;  // with the run's output and units
+  options.output_dir = run.output_dir;
+  options.elastic_fields = run.fields;
+  options.snapshot_steps = run.snapshot_steps;
+  const bool from_file = !sample.sample_file.empty();
+  const bool calibrating = from_file && run.calibrate && run.sigma_unit == 0 &&
+                           run.modulus_unit == 0;
+  if (calibrating && !run.calibration_file.empty())  // before a calibration that could not be stored
+    run_on_root(comm, [&] {
+      const auto folder = std::filesystem::path(run.calibration_file).parent_path();
+      if (!folder.empty() && !std::filesystem::is_directory(folder))
+        throw InputError("option -fracture_calibration_file: the folder of '" +
+                         run.calibration_file + "' does not exist");
+    });
+  // The sample is read and checked before -output_dir is touched: bad input
+  // must not cost an earlier result.
+  Prepared prepared = prepare(comm, sample, run.break_strain, options);
+  if (const int signal = stop_requested(comm, "sample_read"))
+    throw Interrupted("stopped by " + signal_name(signal) + " before anything was "
+                      "written; run the same command again");
+  ResultFolder::Request request;
+  request.dir = run.output_dir;
+  request.fingerprint = result_fingerprint(prepared.lattice, options, calibrating,
+                                           run.sigma_unit, run.modulus_unit, run.fields);
+  request.overwrite = run.overwrite;
+  request.resume = options.resume;
+  request.strict = options.strict;
+  const ResultFolder folder(comm, fracture_layout(), request);
+  if (folder.finished()) return;
+  if (folder.staged_result()) return folder.install();
+  options.output_dir = folder.work_dir();
+  folder.withdraw();
+
+  Calibration calibration;
+  std::vector<RunWarning> calibration_warnings;
+  if (calibrating)
+    calibration = calibrate(comm, sample, solver, run.break_strain, options,
+                            run.calibration_file, provenance, calibration_warnings);
+  normalise(options, run, calibration, sample);
+  const Case c = run_case(std::move(prepared), solver, options, provenance, run.fields);
+  // Degradations (docs/model/fracture.md, "Warnings"): "code:count", the
+  // calibration's prefixed; an empty list for a sound run.
+  std::vector<std::string> warnings = warning_words(calibration_warnings, "calibration_");
+  for (const auto& w : warning_words(c.result.warnings)) warnings.push_back(w);
+  Summary summary = fracture_summary(comm, sample, options, calibration, c, warnings);
+  summary.add_provenance(provenance);
+  folder.commit(summary, warnings);
+  folder.install();
+}
+
+}  // namespace lem
