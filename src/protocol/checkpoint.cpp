@@ -2,7 +2,7 @@
 
 #include "lem/byte_stream.hpp"
 #include "lem/collective.hpp"
-#include "lem/driver.hpp"
+#include "lem/log.hpp"
 #include "lem/error.hpp"
 #include "lem/files.hpp"
 #include "lem/write_watch.hpp"

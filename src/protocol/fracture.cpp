@@ -6,7 +6,6 @@
 #include "lem/fracture.hpp"
 
 #include "lem/collective.hpp"
-#include "lem/driver.hpp"
 #include "lem/error.hpp"
 #include "lem/log.hpp"
 #include "lem/protocol/break_rule.hpp"

@@ -1,6 +1,6 @@
 #include "lem/protocol/local_relaxation.hpp"
 
-#include "lem/driver.hpp"
+#include "lem/log.hpp"
 #include "lem/error.hpp"
 #include "lem/tension.hpp"
 

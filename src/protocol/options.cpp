@@ -4,16 +4,34 @@
 #include "lem/options.hpp"
 
 #include <sstream>
+#include <stdexcept>
+#include <utility>
+#include <vector>
 
 namespace lem {
 
-const char* name_of(BreakRule rule) {
-  return rule == BreakRule::all ? "all" : "most_critical";
+namespace {
+
+// The words of each choice, for the options and for name_of.
+template <class E>
+using Words = std::vector<std::pair<const char*, E>>;
+const Words<BreakRule> kBreakRules = {{"all", BreakRule::all},
+                                      {"most_critical", BreakRule::most_critical}};
+const Words<RelaxationScheme> kRelaxationSchemes = {{"global", RelaxationScheme::global},
+                                                    {"local", RelaxationScheme::local}};
+
+template <class E>
+const char* word_of(const Words<E>& words, E value) {
+  for (const auto& [word, v] : words)
+    if (v == value) return word;
+  throw std::logic_error("name_of: a value without a word");
 }
 
-const char* name_of(RelaxationScheme scheme) {
-  return scheme == RelaxationScheme::global ? "global" : "local";
-}
+}  // namespace
+
+const char* name_of(BreakRule rule) { return word_of(kBreakRules, rule); }
+
+const char* name_of(RelaxationScheme scheme) { return word_of(kRelaxationSchemes, scheme); }
 
 namespace {
 // The smallest -fracture_increment (in a) whose steps the protocol resolves
@@ -36,7 +54,7 @@ FractureOptions read_fracture_options(MPI_Comm comm) {
     o.break_rule = g.choice<BreakRule>(
         "-fracture_break_rule", "Which critical bonds break in a relaxation cycle: all (paper) "
         "or the most critical only",
-        {{"all", BreakRule::all}, {"most_critical", BreakRule::most_critical}}, BreakRule::all);
+        kBreakRules, BreakRule::all);
     o.skip_idle = g.flag("-fracture_skip_idle", "Jump over load steps at which no bond breaks "
                          "(exact: the system is linear between ruptures)", o.skip_idle);
     o.stop_fraction = g.real("-fracture_stop_fraction", "End the run once the stress has "
@@ -72,8 +90,7 @@ FractureOptions read_fracture_options(MPI_Comm comm) {
         "-fracture_relaxation", "global: every relaxation cycle is a global solve (the "
         "reference); local (experimental): relax patches around the new ruptures first, break "
         "the bonds they certify, and solve globally to confirm",
-        {{"global", RelaxationScheme::global}, {"local", RelaxationScheme::local}},
-        RelaxationScheme::global);
+        kRelaxationSchemes, RelaxationScheme::global);
     o.patch_radius = g.real("-fracture_patch_radius", "local: a patch holds the nodes within "
                             "this many mean bond lengths a of the ruptures since the last "
                             "global equilibrium",

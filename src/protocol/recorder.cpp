@@ -1,6 +1,6 @@
 #include "lem/protocol/recorder.hpp"
 
-#include "lem/driver.hpp"
+#include "lem/log.hpp"
 #include "lem/error.hpp"
 #include "lem/files.hpp"
 #include "lem/hdf5_util.hpp"
