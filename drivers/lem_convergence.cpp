@@ -12,6 +12,7 @@
 #include "lem/hdf5_writer.hpp"
 #include "lem/line_fit.hpp"
 #include "lem/options.hpp"
+#include "lem/result_folder.hpp"
 #include "lem/setup.hpp"
 #include "lem/summary.hpp"
 #include "lem/tension_output.hpp"
@@ -44,12 +45,12 @@ int main(int argc, char** argv) {
   return lem::run_driver(argc, argv, help, [](MPI_Comm comm) {
     lem::SampleOptions sample = lem::read_sample_options(comm);
     std::vector<double> densities;
-    std::string dir;
+    lem::ResultFolder::Request request;
     {
       lem::OptionGroup g(comm, "Convergence study");
       densities = g.positive_reals("-convergence_Ln", "Mesh densities L_n = M^(-1/3) to run",
                                    {0.05, 0.04, 0.03, 0.025, 0.02}, true);
-      dir = g.string("-output_dir", "Directory of the results", "results/convergence");
+      request = lem::ResultFolder::read_request(g, "results/convergence");
     }
     for (double ln : densities)
       if (ln > 0.2) throw lem::InputError("option -convergence_Ln: L_n = " + std::to_string(ln) +
@@ -58,8 +59,11 @@ int main(int argc, char** argv) {
     lem::check_option_names(comm);
     if (sample.lattice_type != lem::LatticeType::random)
       throw lem::InputError("lem_convergence needs -lattice_type random");
-    lem::prepare_output_dir(comm, dir, {"convergence.csv", "fit.csv", "summary.json"});
     const auto provenance = lem::collect_provenance(comm, "lem_convergence");
+    request.fingerprint = lem::options_fingerprint(comm, {});
+    const lem::ResultFolder folder(comm, lem::convergence_layout(), request);
+    if (!folder.begin()) return;
+    const std::string& dir = folder.work_dir();
 
     std::ostringstream table;
     // E_eff/E^[m] against L_n (paper fig. 6), E^[m] in units of k/a; the
@@ -108,11 +112,11 @@ int main(int argc, char** argv) {
     summary.add("inclusion_stiffness_ratio", sample.inclusion_stiffness_ratio);
     summary.add_provenance(provenance);
     if (rank == 0) {
-      lem::write_text_file_atomically(dir + "/summary.json", summary.json());
       lem::write_text_file_atomically(dir + "/fit.csv", fit.str());
       lem::write_text_file_atomically(dir + "/convergence.csv", table.str());
     }
-    lem::say("results in %s/ (plot: /usr/bin/python3 tools/plot_convergence.py %s)\n", dir.c_str(),
-             dir.c_str());
+    folder.commit(summary, {});
+    folder.install();
+    lem::say("plot: /usr/bin/python3 tools/plot_convergence.py %s\n", request.dir.c_str());
   });
 }

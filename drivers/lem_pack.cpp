@@ -13,6 +13,7 @@
 #include "lem/hdf5_writer.hpp"
 #include "lem/options.hpp"
 #include "lem/packing.hpp"
+#include "lem/result_folder.hpp"
 #include "lem/sample_options.hpp"
 #include "lem/summary.hpp"
 
@@ -69,7 +70,7 @@ int main(int argc, char** argv) {
   return lem::run_driver(argc, argv, help, [](MPI_Comm comm) {
     lem::PackingSpec spec = lem::read_packing_spec(comm);
     std::int64_t sample = 0;
-    std::string dir;
+    lem::ResultFolder::Request request;
     bool write_box = false;
     lem::CubeCut cut = lem::CubeCut::centres_inside;
     {
@@ -84,7 +85,7 @@ int main(int argc, char** argv) {
           lem::CubeCut::centres_inside);
       write_box = g.flag("-pack_write_box", "Also write the whole periodic packing "
                          "(packing_box.csv)", false);
-      dir = g.string("-output_dir", "Directory of the results", "results/packing");
+      request = lem::ResultFolder::read_request(g, "results/packing");
     }
     lem::check_option_names(comm);
     lem::validate(spec);
@@ -92,9 +93,11 @@ int main(int argc, char** argv) {
       throw lem::InputError("option -pack_sample_particles = " + std::to_string(sample) +
                             " is out of range: allowed 1 to -pack_particles = " +
                             std::to_string(spec.count));
-    lem::prepare_output_dir(comm, dir,
-                            {"packing.csv", "packing_box.csv", "packing.json", "packing_box.json"});
     const auto provenance = lem::collect_provenance(comm, "lem_pack");
+    request.fingerprint = lem::options_fingerprint(comm, {});
+    const lem::ResultFolder folder(comm, lem::packing_layout(), request);
+    if (!folder.begin()) return;
+    const std::string& dir = folder.work_dir();
 
     lem::run_on_root(comm, [&] {
       lem::say("packing %lld spheres, d in [%g, %g], seed %llu\n", (long long)spec.count,
@@ -140,6 +143,7 @@ int main(int argc, char** argv) {
             spheres_json(whole, packing, spec, provenance, "periodic box", "packing_box.csv"));
       }
     });
-    lem::say("results in %s/\n", dir.c_str());
+    folder.commit(lem::Summary{}, {});
+    folder.install();
   });
 }

@@ -18,6 +18,7 @@
 #include "lem/files.hpp"
 #include "lem/hdf5_writer.hpp"
 #include "lem/line_fit.hpp"
+#include "lem/result_folder.hpp"
 #include "lem/options.hpp"
 #include "lem/sample_options.hpp"
 #include "lem/setup.hpp"
@@ -72,7 +73,7 @@ int main(int argc, char** argv) {
     const lem::CementedSampleSpec spec = lem::read_cemented_sample_spec(comm);
     const lem::PhaseTable table = lem::read_phase_table(comm);
     std::vector<double> fractions;
-    std::string dir;
+    lem::ResultFolder::Request request;
     bool halved_faces = false;
     {
       lem::OptionGroup g(comm, "Stiffness against matrix fraction");
@@ -83,7 +84,7 @@ int main(int argc, char** argv) {
       if (g.given("-matrix_fraction"))
         throw lem::InputError("option -matrix_fraction has no use in lem_stiffness, which makes "
                               "a sample at each of -stiffness_fractions: give it there");
-      dir = g.string("-output_dir", "Directory of the results", "results/stiffness");
+      request = lem::ResultFolder::read_request(g, "results/stiffness");
       halved_faces = lem::read_face_bond_option(g);
     }
     for (double f : fractions)
@@ -124,7 +125,10 @@ int main(int argc, char** argv) {
     lem::check_unused_options();
     // Only once the sample and the solver options proved good: bad input
     // keeps older results.
-    lem::prepare_output_dir(comm, dir, {"stiffness.csv", "fits.csv", "summary.json"});
+    request.fingerprint = lem::options_fingerprint(comm, {});
+    const lem::ResultFolder folder(comm, lem::stiffness_layout(), request);
+    if (!folder.begin()) return;
+    const std::string& dir = folder.work_dir();
     using lem::Phase;
     auto lattice_modulus = [&](Phase p) { return unit.young * table.modulus[int(p)]; };
     const double Ep = lattice_modulus(Phase::p), Em = lattice_modulus(Phase::m),
@@ -174,6 +178,7 @@ int main(int argc, char** argv) {
                bare.back(), hs.bare / Ep, adhesive.back(), hs.adhesive / Ep, st.interface_ratio,
                st.bridges_per_particle, MPI_Wtime() - t0);
     }
+    lem::Summary summary;
     if (rank == 0) {
       const auto fb = lem::fit_line(rho, bare), fa = lem::fit_line(rho, adhesive),
                  fs = lem::fit_line(rho, coverage);
@@ -184,7 +189,6 @@ int main(int argc, char** argv) {
                fs.intercept, fs.slope, fs.max_residual);
       lem::say("at rho^m = %.3f: E_eff/E^[m] = %.3f bare, %.3f adhesive (paper at 0.28: 1.6, 2.5)\n",
                rho.back(), bare.back() * Ep / Em, adhesive.back() * Ep / Em);
-      lem::Summary summary;
       summary.add("E_p_lattice", Ep);
       summary.add("E_m_lattice", Em);
       summary.add("lattice_poisson", unit.poisson);
@@ -204,9 +208,9 @@ int main(int argc, char** argv) {
                                           fit_row("E_adhesive_over_Ep", fa) +
                                           fit_row("S_pm_over_S_p", fs));
       lem::write_text_file_atomically(dir + "/stiffness.csv", csv.str());
-      lem::write_text_file_atomically(dir + "/summary.json", summary.json());
     }
-    lem::say("results in %s/ (plot: /usr/bin/python3 tools/plot_stiffness.py %s)\n", dir.c_str(),
-             dir.c_str());
+    folder.commit(summary, {});
+    folder.install();
+    lem::say("plot: /usr/bin/python3 tools/plot_stiffness.py %s\n", request.dir.c_str());
   });
 }

@@ -4,8 +4,8 @@
 //   mpirun -n 2 lem_tension -lattice_bonds 1300000 -output_dir results/tension
 //   mpirun -n 2 lem_tension -sample_file meshes/demo.h5 -output_dir results/demo
 #include "lem/driver.hpp"
-#include "lem/files.hpp"
 #include "lem/options.hpp"
+#include "lem/result_folder.hpp"
 #include "lem/setup.hpp"
 #include "lem/tension_output.hpp"
 #include "lem/tension_summary.hpp"
@@ -20,13 +20,13 @@ int main(int argc, char** argv) {
   return lem::run_driver(argc, argv, help, [](MPI_Comm comm) {
     const lem::SampleOptions sample = lem::read_sample_options(comm);
     double delta = 0;
-    std::string dir;
+    lem::ResultFolder::Request request;
     bool fields = true;
     {
       lem::OptionGroup g(comm, "Loading and output");
       delta = g.real("-load_displacement", "Top displacement Delta in units of the mean bond "
                      "length a", 3e-4, 0.0, 0.1, true);
-      dir = g.string("-output_dir", "Directory of the results", "results/tension");
+      request = lem::ResultFolder::read_request(g, "results/tension");
       fields = g.flag("-output_fields", "Write nodes and bonds to HDF5/XDMF", true);
     }
     const lem::SolverOptions solver = lem::read_solver_options(comm);
@@ -36,7 +36,10 @@ int main(int argc, char** argv) {
     lem::SetupReport setup;
     auto lattice = lem::setup_sample_lattice(comm, sample, setup);
     // Only once the sample is read and checked: bad input keeps older results.
-    lem::prepare_output_dir(comm, dir, {"summary.json", "summary.csv", "fields.h5", "fields.xmf"});
+    request.fingerprint = lem::options_fingerprint(comm, {sample.sample_file});
+    const lem::ResultFolder folder(comm, lem::tension_layout(), request);
+    if (!folder.begin()) return;
+    const std::string& dir = folder.work_dir();
     lem::say("lattice: %lld nodes, %lld bonds (%lld in the system), a = %.4g, L_n = %.4g, "
              "coordination %.2f\n",
              (long long)setup.sample.stats.nodes, (long long)setup.sample.stats.bonds,
@@ -89,12 +92,8 @@ int main(int argc, char** argv) {
              response.external_work);
 
     if (fields) lem::write_tension_fields(dir + "/fields", lattice, system, provenance, summary);
-    int rank = 0;
-    MPI_Comm_rank(comm, &rank);
-    if (rank == 0) {
-      summary.add_provenance(provenance);
-      summary.write(dir + "/summary");
-    }
-    lem::say("results in %s/\n", dir.c_str());
+    summary.add_provenance(provenance);
+    folder.commit(summary, {});
+    folder.install();
   });
 }

@@ -28,6 +28,7 @@
 
 namespace lem {
 
+class OptionGroup;
 class OutputLock;
 
 /// What a program writes in its result folder.
@@ -35,11 +36,11 @@ struct ResultLayout {
   std::string program;
   /// Files every finished result has, first in its manifest, in this order.
   std::vector<std::string> required;
-  /// Files a run writes as it goes (its logs): kept when it resumes from a
-  /// checkpoint, else withdrawn; committed when present.
-  std::vector<std::string> logs;
+  /// Files committed when present.  A run that resumes from a checkpoint
+  /// keeps them (they are its logs so far); any other run withdraws them.
+  std::vector<std::string> optional;
   /// Families of field files by stem: "fields" is fields.h5, fields.xmf,
-  /// fields_nodes.xmf.  `final_families` are written at the end of a run
+  /// fields_nodes.xmf; "snapshot" is snapshot_<step>.h5/.xmf.  `final_families` are written at the end of a run
   /// (withdrawn before every run); the others before its first checkpoint
   /// or during it (kept when it resumes).
   std::vector<std::string> final_families;
@@ -57,13 +58,28 @@ struct ResultLayout {
 /// lem_fracture's folder: curve, ruptures, summary, fields, snapshots, the
 /// calibration sub-folder, its checkpoint and the plots of its tools.
 const ResultLayout& fracture_layout();
+/// lem_tension: summary and fields.  lem_stiffness, lem_convergence: their
+/// tables and summary.  lem_pack: the packing (and the whole box).
+const ResultLayout& tension_layout();
+const ResultLayout& stiffness_layout();
+const ResultLayout& convergence_layout();
+const ResultLayout& packing_layout();
+
+/// The fingerprint of a run that is its options: every option the program
+/// read, as "name=value" (given or default), but those that only say where
+/// and how results are written (-output_*), and PETSc's solver options
+/// (they change results within the solver's tolerance only); and the
+/// checksum of each input file ("" names none).  Call it once every option
+/// is read.  Collective; the text is made on rank 0 (the folder's work is
+/// done there), "" elsewhere.
+std::string options_fingerprint(MPI_Comm comm, const std::vector<std::string>& input_files);
 
 /// A result folder opened by a run.  Collective: every method is called on
 /// every rank; rank 0 does the file work and every rank gets its answers.
 class ResultFolder {
  public:
   struct Request {
-    std::string dir;
+    std::string dir;  // -output_dir
     /// What the result depends on (manifest's fingerprint, "key=value" lines).
     std::string fingerprint;
     bool overwrite = false;  // -output_overwrite
@@ -73,26 +89,26 @@ class ResultFolder {
   };
 
   ResultFolder(MPI_Comm comm, const ResultLayout& layout, Request request);
+  /// The options every program that writes a folder reads, in `group`:
+  /// -output_dir (default `default_dir`) and -output_overwrite.
+  static Request read_request(OptionGroup& group, const char* default_dir);
   ~ResultFolder();
   ResultFolder(const ResultFolder&) = delete;
   ResultFolder& operator=(const ResultFolder&) = delete;
 
-  /// The finished result of this very run is in place: nothing to do.
-  bool finished() const { return finished_; }
-  /// The complete result of this run waits in the staging folder (a run
-  /// stopped while it put it in place): install() is all that is left.
-  bool staged_result() const { return pending_; }
   /// Where the run computes and writes: the folder, or its staging folder.
   const std::string& work_dir() const { return work_; }
   /// Whether a checkpoint in work_dir() will be resumed.
   bool resuming() const;
 
-  /// Withdraw the result an earlier run left in work_dir() (the manifest
+  /// Whether there is a result to compute: false when the finished result
+  /// is there or a staged one was put in place (install()); else the
+  /// result an earlier run left in work_dir() is withdrawn (the manifest
   /// first), keeping what a resumed run goes on from.
-  void withdraw() const;
-  /// Write `summary` as summary.json/.csv, commit every result file
-  /// present with `warnings` (codes of a degraded result, for a later
-  /// -fracture_strict), then remove the checkpoint.
+  bool begin() const;
+  /// Write `summary` as summary.json/.csv (if the layout has them), commit
+  /// every result file present with `warnings` (codes of a degraded result,
+  /// for a later -fracture_strict), then remove the checkpoint.
   void commit(const Summary& summary, const std::vector<std::string>& warnings) const;
   /// Put a staged result in place of the old one, say where the result is,
   /// and stop (Interrupted) if a stop request came while it was written.

@@ -315,11 +315,9 @@ FractureRunOptions read_fracture_run_options(MPI_Comm comm) {
   o.modulus_unit = g.real("-fracture_modulus_unit", "Normalise moduli by this value instead "
                           "(E^phase units; e.g. E^[p] from an earlier calibration; 0: "
                           "calibrate or use E^p)", 0.0, 0.0, 1e12);
-  o.output_dir = g.string("-output_dir", "Directory of the results", "results/fracture");
-  o.overwrite = g.flag("-output_overwrite", "Compute the result again even if -output_dir "
-                       "holds a finished one (its manifest.txt), in <output_dir>.overwrite/: "
-                       "it replaces the old one only when complete; without it a finished "
-                       "run of the same sample and options is left as it is (exit 0)", false);
+  const ResultFolder::Request folder = ResultFolder::read_request(g, "results/fracture");
+  o.output_dir = folder.dir;
+  o.overwrite = folder.overwrite;
   o.fields = g.flag("-output_fields", "Write the final displacements and bond states to "
                     "HDF5/XDMF (fields.h5), and those of the first equilibrium with the node "
                     "stresses of eq. 1 (elastic.h5)", true);
@@ -366,10 +364,8 @@ void run_fracture_job(MPI_Comm comm, const SampleOptions& sample,
   request.resume = options.resume;
   request.strict = options.strict;
   const ResultFolder folder(comm, fracture_layout(), request);
-  if (folder.finished()) return;
-  if (folder.staged_result()) return folder.install();
+  if (!folder.begin()) return;
   options.output_dir = folder.work_dir();
-  folder.withdraw();
 
   Calibration calibration;
   std::vector<RunWarning> calibration_warnings;

@@ -3,6 +3,7 @@
 #include "lem/error.hpp"
 #include "lem/files.hpp"
 #include "lem/log.hpp"
+#include "lem/options.hpp"
 #include "lem/protocol/checkpoint.hpp"
 #include "lem/stop.hpp"
 
@@ -69,7 +70,7 @@ std::string joined(const std::vector<std::string>& words) {
 
 bool ResultLayout::owns(const std::string& name) const {
   const std::string ext = fs::path(name).extension().string();
-  return listed(required, name) || listed(logs, name) || listed(extras, name) ||
+  return listed(required, name) || listed(optional, name) || listed(extras, name) ||
          of_families(name, final_families) || of_families(name, running_families) ||
          ext == ".part" || ext == ".tmp";
 }
@@ -80,10 +81,64 @@ const ResultLayout& fracture_layout() {
       {"curve.csv", "broken.csv", "summary.csv", "summary.json"},
       {"curve.csv", "curve.json", "broken.csv"},
       {"fields"},
-      {"elastic", "snapshot"},
+      {"elastic", "snapshot", "snapshots"},
       {"calibration", "checkpoint.bin", "fracture.png", "fracture.pdf", "stress.png",
        "stress.pdf", "stress.json"}};
   return layout;
+}
+
+const ResultLayout& tension_layout() {
+  static const ResultLayout layout = {
+      "lem_tension", {"summary.csv", "summary.json"}, {}, {"fields"}, {}, {"tension.png"}};
+  return layout;
+}
+
+const ResultLayout& stiffness_layout() {
+  static const ResultLayout layout = {
+      "lem_stiffness",
+      {"stiffness.csv", "fits.csv", "summary.csv", "summary.json"},
+      {},
+      {},
+      {},
+      {"stiffness.png", "stiffness.pdf", "interface.png", "interface.pdf"}};
+  return layout;
+}
+
+const ResultLayout& convergence_layout() {
+  static const ResultLayout layout = {
+      "lem_convergence", {"convergence.csv", "fit.csv", "summary.csv", "summary.json"}, {}, {},
+      {}, {"convergence.png", "convergence.pdf"}};
+  return layout;
+}
+
+const ResultLayout& packing_layout() {
+  static const ResultLayout layout = {
+      "lem_pack", {"packing.csv", "packing.json"}, {"packing_box.csv", "packing_box.json"}, {},
+      {}, {}};
+  return layout;
+}
+
+std::string options_fingerprint(MPI_Comm comm, const std::vector<std::string>& input_files) {
+  std::string text;
+  run_on_root(comm, [&] {
+    for (const OptionRecord& r : registered_options()) {
+      if (r.petsc_default || r.name.rfind("-output_", 0) == 0) continue;
+      text += r.name.substr(1) + "=" + (r.given ? r.value : r.default_value) + "\n";
+    }
+    for (const auto& file : input_files)
+      if (!file.empty()) text += "input " + file + "=" + file_checksum(file) + "\n";
+  });
+  return text;
+}
+
+ResultFolder::Request ResultFolder::read_request(OptionGroup& g, const char* default_dir) {
+  Request r;
+  r.dir = g.string("-output_dir", "Directory of the results", default_dir);
+  r.overwrite = g.flag("-output_overwrite", "Compute the result again even if -output_dir "
+                       "holds a finished one (its manifest.txt), in <output_dir>.overwrite/: "
+                       "it replaces the old one only when complete; without it a finished "
+                       "run of the same input and options is left as it is (exit 0)", false);
+  return r;
 }
 
 namespace {
@@ -240,29 +295,37 @@ bool ResultFolder::resuming() const {
   return broadcast_flag(comm_, found) != 0;
 }
 
-void ResultFolder::withdraw() const {
+bool ResultFolder::begin() const {
+  if (finished_) return false;
+  if (pending_) {
+    install();
+    return false;
+  }
   const bool resumes = resuming();
   run_on_root(comm_, [&] {
-    std::vector<std::string> stale = {"summary.json", "summary.csv"};
-    for (const auto& name : layout_.extras)
+    // A resumed run goes on from its logs, its first fields and snapshots.
+    std::vector<std::string> stale;
+    for (const auto& name : layout_.required)
+      if (!resumes || !listed(layout_.optional, name)) stale.push_back(name);
+    if (!resumes) stale.insert(stale.end(), layout_.optional.begin(), layout_.optional.end());
+    for (const auto& name : layout_.extras)  // plots drawn from an earlier result
       if (fs::path(name).has_extension() && name != "checkpoint.bin") stale.push_back(name);
     std::vector<std::string> families = layout_.final_families;
-    if (!resumes) {
-      stale.insert(stale.end(), layout_.logs.begin(), layout_.logs.end());
+    if (!resumes)
       families.insert(families.end(), layout_.running_families.begin(),
                       layout_.running_families.end());
-    }
     for (const auto& name : family_files(work_, families)) stale.push_back(name);
     withdraw_results(work_, stale);
   });
+  return true;
 }
 
 void ResultFolder::commit(const Summary& summary, const std::vector<std::string>& warnings) const {
   run_on_root(comm_, [&] {
-    summary.write(work_ + "/summary");
+    if (listed(layout_.required, "summary.json")) summary.write(work_ + "/summary");
     std::vector<std::string> files = layout_.required;
     std::vector<std::string> present;
-    for (const auto& name : layout_.logs)
+    for (const auto& name : layout_.optional)
       if (!listed(files, name) && fs::exists(work_ + "/" + name)) present.push_back(name);
     std::vector<std::string> families = layout_.final_families;
     families.insert(families.end(), layout_.running_families.begin(),
