@@ -41,4 +41,10 @@ void run_fracture_job(MPI_Comm comm, const SampleOptions& sample,
                       const FractureOptions& protocol, const FractureRunOptions& run,
                       const SolverOptions& solver, const Provenance& provenance);
 
+/// The whole program lem_fracture (its main): the options read, then the
+/// job, inside the driver frame that turns errors and stop requests into
+/// exit statuses.  A program that registers its own break rules or
+/// relaxation schemes (registry.hpp) calls it after registering them.
+int fracture_program(int argc, char** argv, const char* help);
+
 }  // namespace lem

@@ -30,7 +30,30 @@ bool in_doubt(double tension, double level, double band) {
   return band > 0 && tension > doubt_edge(level, band) && tension <= level + band;
 }
 
-CriticalBonds::CriticalBonds(const DistributedLattice& l, BreakRule rule, double tie_band)
+namespace {
+
+class AllCritical final : public BreakRule {
+ public:
+  std::vector<Rupture> batch(std::vector<Rupture> critical) const override { return critical; }
+  bool set_decides_batch() const override { return true; }
+};
+
+class MostCritical final : public BreakRule {
+ public:
+  std::vector<Rupture> batch(std::vector<Rupture> critical) const override {
+    if (critical.empty()) return critical;
+    return {*std::min_element(critical.begin(), critical.end(), more_critical)};
+  }
+  bool set_decides_batch() const override { return false; }
+};
+
+}  // namespace
+
+std::unique_ptr<BreakRule> make_all_critical_rule() { return std::make_unique<AllCritical>(); }
+
+std::unique_ptr<BreakRule> make_most_critical_rule() { return std::make_unique<MostCritical>(); }
+
+CriticalBonds::CriticalBonds(const DistributedLattice& l, const BreakRule& rule, double tie_band)
     : lattice_(l), rule_(rule) {
   // Forces below the floor are solver noise.
   double sums[2] = {0, 0}, totals[2];
@@ -82,15 +105,9 @@ std::vector<Rupture> CriticalBonds::find(const std::vector<double>& tension) con
     r.phase = l.bond_tag.empty() ? 0 : static_cast<int>(l.bond_tag[b]);
     mine.push_back(r);
   }
-  if (rule_ == BreakRule::most_critical) {
-    if (!mine.empty()) mine = {*std::min_element(mine.begin(), mine.end(), more_critical)};
-    auto all = allgather(l.comm, mine);
-    if (!all.empty()) all = {*std::min_element(all.begin(), all.end(), more_critical)};
-    return all;
-  }
   auto all = allgather(l.comm, mine);
   std::sort(all.begin(), all.end(), [](const Rupture& a, const Rupture& b) { return a.id < b.id; });
-  return all;
+  return rule_.batch(std::move(all));
 }
 
 FieldDecision CriticalBonds::decide(const std::vector<double>& tension,
@@ -111,7 +128,7 @@ FieldDecision CriticalBonds::decide(const std::vector<double>& tension,
   MPI_Allreduce(counts, totals, 2, MPI_INT64_T, MPI_SUM, l.comm);
   if (totals[1] > 0) return FieldDecision::undecided;
   if (totals[0] == 0) return FieldDecision::holds;
-  return rule_ == BreakRule::all ? FieldDecision::breaks : FieldDecision::undecided;
+  return rule_.set_decides_batch() ? FieldDecision::breaks : FieldDecision::undecided;
 }
 
 std::int64_t CriticalBonds::next_step(const std::vector<double>& tension, std::int64_t step,

@@ -5,6 +5,7 @@
 #include "lem/log.hpp"
 #include "lem/error.hpp"
 #include "lem/files.hpp"
+#include "lem/protocol/registry.hpp"
 #include "lem/write_watch.hpp"
 
 #include <algorithm>
@@ -441,13 +442,12 @@ std::string fracture_fingerprint(const DistributedLattice& l, const FractureOpti
   s.precision(17);
   s << "ranks=" << ranks << "\nnodes=" << l.global_nodes << "\nbonds=" << l.global_bonds
     << "\nsample_checksum=" << total << "\nincrement=" << o.increment
-    << "\nbreak_rule=" << name_of(o.break_rule) << "\nskip_idle=" << o.skip_idle
+    << "\nbreak_rule=" << o.break_rule << "\nskip_idle=" << o.skip_idle
     << "\npc_rebuild_ruptures=" << o.rebuild_after_ruptures
     << "\npc_rebuild_growth=" << o.rebuild_iteration_growth
-    << "\nrelaxation=" << name_of(o.relaxation);
-  if (o.relaxation == RelaxationScheme::local)
-    s << "\npatch_radius=" << o.patch_radius << "\npatch_margin=" << o.patch_margin
-      << "\npatch_max_fraction=" << o.patch_max_fraction << "\npatch_rtol=" << o.patch_rtol;
+    << "\nrelaxation=" << o.relaxation;
+  const RelaxationEntry& scheme = relaxation_named(o.relaxation);
+  if (scheme.fingerprint) s << "\n" << scheme.fingerprint(o);
   if (o.decision_safety > 0)
     s << "\ndecision_safety=" << o.decision_safety
       << "\ndecision_interval=" << o.decision_interval

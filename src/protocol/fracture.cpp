@@ -11,7 +11,7 @@
 #include "lem/protocol/break_rule.hpp"
 #include "lem/protocol/checkpoint.hpp"
 #include "lem/protocol/damage_ledger.hpp"
-#include "lem/protocol/local_relaxation.hpp"
+#include "lem/protocol/registry.hpp"
 #include "lem/protocol/preconditioner_policy.hpp"
 #include "lem/protocol/progress.hpp"
 #include "lem/protocol/recorder.hpp"
@@ -36,22 +36,18 @@ struct StopInRelaxation {
   int cycles;
 };
 
-std::unique_ptr<Relaxation> make_relaxation(const RelaxationParts& parts) {
-  if (parts.options.relaxation == RelaxationScheme::local)
-    return std::make_unique<LocalRelaxation>(parts);
-  return std::make_unique<GlobalRelaxation>(parts);
-}
 
 class Protocol {
  public:
   Protocol(DistributedLattice& l, ElasticSystem& s, const FractureOptions& o,
            const Provenance& provenance)
-      : l_(l), system_(s), o_(o), critical_(l, o.break_rule, o.tie_band * s.rtol()),
+      : l_(l), system_(s), o_(o), rule_(break_rule_named(o.break_rule).make()),
+        critical_(l, *rule_, o.tie_band * s.rtol()),
         ledger_(l, s),
         solver_(s, ledger_, {o.rebuild_after_ruptures, o.rebuild_iteration_growth},
                 state_.preconditioner, state_.tally),
         recorder_(l, s, o, provenance), progress_(o),
-        relaxation_(make_relaxation(RelaxationParts{
+        relaxation_(relaxation_named(o.relaxation).make(RelaxationParts{
             l, s, o, critical_, ledger_, solver_, recorder_, progress_, clock_, state_.tally,
             [this](std::int64_t step, int cycles) { stop_between_cycles(step, cycles); },
             [this](double stress) { return needs_equilibrium(stress); }})),
@@ -81,6 +77,7 @@ class Protocol {
   FractureState state_;
   FractureTally& tally_ = state_.tally;
   RunClock clock_;
+  std::unique_ptr<BreakRule> rule_;
   CriticalBonds critical_;
   DamageLedger ledger_;
   PreconditionerPolicy solver_;

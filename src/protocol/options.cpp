@@ -2,6 +2,7 @@
 
 #include "lem/error.hpp"
 #include "lem/options.hpp"
+#include "lem/protocol/registry.hpp"
 
 #include <sstream>
 #include <stdexcept>
@@ -12,28 +13,22 @@ namespace lem {
 
 namespace {
 
-// The words of each choice, for the options and for name_of.
-template <class E>
-using Words = std::vector<std::pair<const char*, E>>;
-const Words<BreakRule> kBreakRules = {{"all", BreakRule::all},
-                                      {"most_critical", BreakRule::most_critical}};
-const Words<RelaxationScheme> kRelaxationSchemes = {{"global", RelaxationScheme::global},
-                                                    {"local", RelaxationScheme::local}};
-
-template <class E>
-const char* word_of(const Words<E>& words, E value) {
-  for (const auto& [word, v] : words)
-    if (v == value) return word;
-  throw std::logic_error("name_of: a value without a word");
+// One of the registered names (`entries`: break_rules() or
+// relaxation_schemes()), the help listing each with its own.
+template <class Entry>
+std::string read_registered(OptionGroup& g, const char* name, const std::string& what,
+                            const std::vector<Entry>& entries, const std::string& def) {
+  std::string help = what;
+  std::vector<std::pair<const char*, std::size_t>> words;
+  std::size_t def_index = 0;
+  for (std::size_t i = 0; i < entries.size(); ++i) {
+    help += (i ? "; " : ": ") + entries[i].name + " = " + entries[i].help;
+    words.emplace_back(entries[i].name.c_str(), i);
+    if (entries[i].name == def) def_index = i;
+  }
+  return entries[g.choice<std::size_t>(name, help.c_str(), words, def_index)].name;
 }
 
-}  // namespace
-
-const char* name_of(BreakRule rule) { return word_of(kBreakRules, rule); }
-
-const char* name_of(RelaxationScheme scheme) { return word_of(kRelaxationSchemes, scheme); }
-
-namespace {
 // The smallest -fracture_increment (in a) whose steps the protocol resolves
 // (the option's help says why).
 constexpr double kMinIncrement = 1e-7;
@@ -51,10 +46,8 @@ FractureOptions read_fracture_options(MPI_Comm comm) {
                          "(-fracture_tie_band x -ksp_rtol = 1e-5 of the mean threshold), so the "
                          "solver's error and not the load would decide the ruptures",
                          o.increment, kMinIncrement, 0.01);
-    o.break_rule = g.choice<BreakRule>(
-        "-fracture_break_rule", "Which critical bonds break in a relaxation cycle: all (paper) "
-        "or the most critical only",
-        kBreakRules, BreakRule::all);
+    o.break_rule = read_registered(g, "-fracture_break_rule", "Which critical bonds break in a "
+                                   "relaxation cycle", break_rules(), o.break_rule);
     o.skip_idle = g.flag("-fracture_skip_idle", "Jump over load steps at which no bond breaks "
                          "(exact: the system is linear between ruptures)", o.skip_idle);
     o.stop_fraction = g.real("-fracture_stop_fraction", "End the run once the stress has "
@@ -86,11 +79,8 @@ FractureOptions read_fracture_options(MPI_Comm comm) {
   }
   {
     OptionGroup g(comm, "Relaxation after ruptures (docs/model/fracture.md)");
-    o.relaxation = g.choice<RelaxationScheme>(
-        "-fracture_relaxation", "global: every relaxation cycle is a global solve (the "
-        "reference); local (experimental): relax patches around the new ruptures first, break "
-        "the bonds they certify, and solve globally to confirm",
-        kRelaxationSchemes, RelaxationScheme::global);
+    o.relaxation = read_registered(g, "-fracture_relaxation", "How a load step is relaxed "
+                                   "after ruptures", relaxation_schemes(), o.relaxation);
     o.patch_radius = g.real("-fracture_patch_radius", "local: a patch holds the nodes within "
                             "this many mean bond lengths a of the ruptures since the last "
                             "global equilibrium",

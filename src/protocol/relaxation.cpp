@@ -54,7 +54,7 @@ void Relaxation::note_batch(std::int64_t step, const std::vector<Rupture>& batch
 }
 
 bool Relaxation::decides_early() const {
-  return p_.options.decision_safety > 0 && p_.options.break_rule == BreakRule::all;
+  return p_.options.decision_safety > 0 && p_.critical.rule().set_decides_batch();
 }
 
 bool Relaxation::decision_stands(FieldDecision decision, const std::vector<double>& now,

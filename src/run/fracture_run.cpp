@@ -222,7 +222,7 @@ Summary fracture_summary(MPI_Comm comm, const SampleOptions& sample, const Fract
   s.add("nodes", static_cast<long long>(c.setup.sample.stats.nodes));
   s.add("active_bonds", static_cast<long long>(c.setup.active_bonds));
   s.add("increment_over_a", o.increment);
-  s.add("break_rule", std::string(name_of(o.break_rule)));
+  s.add("break_rule", o.break_rule);
   s.add("sigma_unit", o.strength_unit, "stress");
   s.add("E_unit", o.modulus_unit, "stress");
   s.add("sigma_hom", calibration.sigma_hom, "stress");
@@ -256,7 +256,7 @@ Summary fracture_summary(MPI_Comm comm, const SampleOptions& sample, const Fract
   count("ksp_iterations", r.iterations);
   count("pc_builds", r.preconditioner_builds);
   count("fallback_solves", r.fallback_solves);
-  s.add("relaxation", std::string(name_of(o.relaxation)));
+  s.add("relaxation", o.relaxation);
   count("patch_solves", r.patch_solves);
   count("patch_iterations", r.patch_iterations);
   s.add("patch_nodes_mean", r.patch_solves > 0 ? static_cast<double>(r.patch_nodes) /
@@ -382,6 +382,18 @@ void run_fracture_job(MPI_Comm comm, const SampleOptions& sample,
   summary.add_provenance(provenance);
   folder.commit(summary, warnings);
   folder.install();
+}
+
+int fracture_program(int argc, char** argv, const char* help) {
+  return run_driver(argc, argv, help, [](MPI_Comm comm) {
+    const SampleOptions sample = read_sample_options(comm);
+    const FractureOptions protocol = read_fracture_options(comm);
+    const FractureRunOptions run = read_fracture_run_options(comm);
+    const SolverOptions solver = read_solver_options(comm);
+    check_option_names(comm);
+    const auto provenance = collect_provenance(comm, "lem_fracture");
+    run_fracture_job(comm, sample, protocol, run, solver, provenance);
+  }, StopHandling::save_and_exit);
 }
 
 }  // namespace lem

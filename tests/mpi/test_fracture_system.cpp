@@ -80,7 +80,8 @@ TEST_F(FractureParts, FccCriticalBondsAreTheInclinedOnes) {
   });
   ASSERT_GT(inclined.size(), 100u);
   const double height = l.box.length(2);
-  CriticalBonds all(l, BreakRule::all), one(l, BreakRule::most_critical);
+  const auto all_rule = make_all_critical_rule(), one_rule = make_most_critical_rule();
+  CriticalBonds all(l, *all_rule), one(l, *one_rule);
 
   system.solve(0.97 * 3 * eps_b * height);
   EXPECT_TRUE(all.find(system.bond_tensions()).empty());
@@ -115,7 +116,8 @@ TEST_F(FractureParts, DecidedBatchNeedsEveryBondOutsideItsError) {
   DistributedLattice l = fcc_with_break_strain(a, eps_b);
   ElasticSystem system(l, exact);
   system.assemble();
-  CriticalBonds all(l, BreakRule::all), one(l, BreakRule::most_critical);
+  const auto all_rule = make_all_critical_rule(), one_rule = make_most_critical_rule();
+  CriticalBonds all(l, *all_rule), one(l, *one_rule);
   const double height = l.box.length(2);
   system.solve(1.03 * 3 * eps_b * height);
   const std::vector<double> t = system.bond_tensions();
@@ -164,7 +166,8 @@ TEST_F(FractureParts, NearTiesAreInDoubt) {
   DistributedLattice l = fcc_with_break_strain(a, eps_b);
   ElasticSystem system(l, exact);
   system.assemble();
-  CriticalBonds wide(l, BreakRule::all, 0.05), narrow(l, BreakRule::all, 0.001);
+  const auto rule = make_all_critical_rule();
+  CriticalBonds wide(l, *rule, 0.05), narrow(l, *rule, 0.001);
   const double height = l.box.length(2);
   system.solve(1.03 * 3 * eps_b * height);
   const std::vector<double> t = system.bond_tensions();
@@ -215,7 +218,8 @@ TEST_F(FractureParts, SolveStoppedOnceDecidedGivesTheConvergedBatch) {
     if (largest[i] - largest[i + 1] > largest[gap] - largest[gap + 1]) gap = i;
   const double level = 0.5 * (largest[gap] + largest[gap + 1]);
   l.bond_strength.assign(l.bond_stiffness.size(), level);
-  CriticalBonds all(l, BreakRule::all);
+  const auto rule = make_all_critical_rule();
+  CriticalBonds all(l, *rule);
   const auto converged = all.find(converged_tension);
   ASSERT_EQ(converged.size(), gap + 1);
 

@@ -16,6 +16,7 @@
 #include "lem/protocol/options.hpp"
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 namespace lem {
@@ -43,6 +44,28 @@ double doubt_edge(double level, double band);
 /// doubt_edge(level, band) < t <= level + band (never with band 0).
 bool in_doubt(double tension, double level, double band);
 
+/// Which of a field's critical bonds break in one relaxation cycle: the
+/// rule of -fracture_break_rule (registry.hpp lists them by name).
+class BreakRule {
+ public:
+  virtual ~BreakRule() = default;
+  /// The bonds that break now, from `critical`: every critical bond of the
+  /// field, the same list on every rank, ordered by id (so the answer must
+  /// depend on nothing else to keep runs independent of the rank count).
+  /// Not empty when `critical` is not.
+  virtual std::vector<Rupture> batch(std::vector<Rupture> critical) const = 0;
+  /// Whether the batch follows from which bonds are critical alone: then a
+  /// solve may stop as soon as its field shows that set (decided solves).
+  /// A rule that ranks the critical bonds by their forces needs converged
+  /// forces and answers false.
+  virtual bool set_decides_batch() const = 0;
+};
+
+/// The paper's rule: every critical bond breaks.
+std::unique_ptr<BreakRule> make_all_critical_rule();
+/// The most critical bond only (more_critical: largest ratio, then id).
+std::unique_ptr<BreakRule> make_most_critical_rule();
+
 /// What a field that is no equilibrium decides, given an error estimate of
 /// every force (CriticalBonds::decide).
 enum class FieldDecision {
@@ -56,11 +79,11 @@ class CriticalBonds {
   /// Collective (the force floor is a global mean of the thresholds).
   /// `tie_band`: width of the doubt band in units of the mean positive
   /// threshold (0: no bond is ever in doubt).
-  CriticalBonds(const DistributedLattice& lattice, BreakRule rule, double tie_band = 0);
+  /// `rule` must outlive the object.
+  CriticalBonds(const DistributedLattice& lattice, const BreakRule& rule, double tie_band = 0);
 
-  /// The bonds that break now under the rule, the same list on every rank
-  /// (all critical ones ordered by id, or the most critical one).  Collective;
-  /// throws NumericalError naming a bond with a non-finite force.
+  /// The bonds that break now under the rule, the same list on every rank.
+  /// Collective; throws NumericalError naming a bond with a non-finite force.
   std::vector<Rupture> find(const std::vector<double>& tensions) const;
 
   /// Whether some bond is in doubt (in_doubt).  Collective.
@@ -70,7 +93,8 @@ class CriticalBonds {
   /// estimated as `safety` times its change since the `earlier` iterate:
   /// `breaks` when at least one bond is critical beyond its error and no
   /// bond is within its error of its level or in doubt (the critical set is
-  /// then the converged field's; only under the rule `all`), `holds` when
+  /// then the converged field's; only under a rule whose batch follows from
+  /// the critical set), `holds` when
   /// moreover no bond is critical.  Collective.
   FieldDecision decide(const std::vector<double>& tensions, const std::vector<double>& earlier,
                        double safety) const;
@@ -90,6 +114,7 @@ class CriticalBonds {
   /// elastic regime).  Collective.
   void check_first_increment(const std::vector<double>& tensions, double increment) const;
 
+  const BreakRule& rule() const { return rule_; }
   double force_floor() const { return force_floor_; }
   /// Width of the doubt band (a force; 0: off).
   double tie_band() const { return band_; }
@@ -100,7 +125,7 @@ class CriticalBonds {
   double level(int bond) const;  // the force above which the bond is critical
 
   const DistributedLattice& lattice_;
-  BreakRule rule_;
+  const BreakRule& rule_;
   double mean_threshold_ = 1, force_floor_ = 0, band_ = 0;
 };
 

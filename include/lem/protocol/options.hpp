@@ -1,5 +1,4 @@
-// Fracture options, read once per run into plain values (no strings are
-// compared past this point).
+// Fracture options, read once per run into plain values.
 #pragma once
 
 #include "lem/phase.hpp"
@@ -12,27 +11,21 @@
 
 namespace lem {
 
-/// Which critical bonds break in one relaxation cycle.
-enum class BreakRule { all, most_critical };  // all: the paper's rule
-const char* name_of(BreakRule rule);
-
-/// How a load step is relaxed after ruptures (relaxation.hpp).
-enum class RelaxationScheme { global, local };  // global: every cycle a global solve
-const char* name_of(RelaxationScheme scheme);
-
 /// Random factor on the breaking thresholds.
 enum class ThresholdDisorder { none, uniform, weibull };
 
 struct FractureOptions {
   double increment = 3e-4;           // top displacement per step, units of a
-  BreakRule break_rule = BreakRule::all;
+  // Which critical bonds break in one relaxation cycle, and how a load step
+  // is relaxed after ruptures: names of the registry (registry.hpp).
+  std::string break_rule = "all";    // the paper's rule
+  std::string relaxation = "global";  // every cycle a global solve
   bool skip_idle = true;             // jump over increments without rupture
   double stop_fraction = 0.05;       // end when sigma < this * peak after the peak
   double max_strain_ratio = 10;      // ... or when the strain exceeds this * peak strain
   bool stop_within_step = false;     // test the stop fraction after every relaxation
                                      // cycle (calibration: only the peak matters)
   std::int64_t max_steps = 1000000;
-  RelaxationScheme relaxation = RelaxationScheme::global;
   double patch_radius = 5.0;         // local: patch = nodes within this many a of new ruptures
   double patch_margin = 0.05;        // local: a patch field breaks a bond only above (1 + margin) f
   double patch_max_fraction = 0.2;   // local: larger patches are solved globally

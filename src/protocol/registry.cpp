@@ -1,0 +1,78 @@
+#include "lem/protocol/registry.hpp"
+
+#include "lem/protocol/local_relaxation.hpp"
+
+#include <algorithm>
+#include <sstream>
+#include <stdexcept>
+
+namespace lem {
+
+namespace {
+
+// The built-in ones; a new one in the code base is its file and a line here.
+std::vector<BreakRuleEntry>& rule_table() {
+  static std::vector<BreakRuleEntry> table = {
+      {"all", "every critical bond (the paper)", make_all_critical_rule},
+      {"most_critical", "the most critical bond only (largest force over threshold)",
+       make_most_critical_rule}};
+  return table;
+}
+
+std::vector<RelaxationEntry>& scheme_table() {
+  static std::vector<RelaxationEntry> table = {
+      {"global", "every relaxation cycle is a global solve (the reference)",
+       [](const RelaxationParts& parts) -> std::unique_ptr<Relaxation> {
+         return std::make_unique<GlobalRelaxation>(parts);
+       }},
+      {"local", "(experimental) relax patches around the new ruptures first, break the bonds "
+                "they certify, and solve globally to confirm",
+       [](const RelaxationParts& parts) -> std::unique_ptr<Relaxation> {
+         return std::make_unique<LocalRelaxation>(parts);
+       },
+       [](const FractureOptions& o) {
+         std::ostringstream s;
+         s.precision(17);
+         s << "patch_radius=" << o.patch_radius << "\npatch_margin=" << o.patch_margin
+           << "\npatch_max_fraction=" << o.patch_max_fraction << "\npatch_rtol=" << o.patch_rtol
+           << "\n";
+         return s.str();
+       }}};
+  return table;
+}
+
+template <class Entry>
+void add(std::vector<Entry>& table, Entry entry, const char* kind) {
+  const bool taken = std::any_of(table.begin(), table.end(),
+                                 [&](const Entry& e) { return e.name == entry.name; });
+  if (entry.name.empty() || taken || !entry.make)
+    throw std::invalid_argument(std::string(kind) + " '" + entry.name + "': " +
+                                (taken ? "the name is taken" : "no name or no factory"));
+  table.push_back(std::move(entry));
+}
+
+template <class Entry>
+const Entry& named(const std::vector<Entry>& table, const std::string& name, const char* kind) {
+  for (const Entry& e : table)
+    if (e.name == name) return e;
+  throw std::invalid_argument(std::string("no ") + kind + " named '" + name + "'");
+}
+
+}  // namespace
+
+const std::vector<BreakRuleEntry>& break_rules() { return rule_table(); }
+const std::vector<RelaxationEntry>& relaxation_schemes() { return scheme_table(); }
+
+void register_break_rule(BreakRuleEntry entry) { add(rule_table(), std::move(entry), "break rule"); }
+void register_relaxation(RelaxationEntry entry) {
+  add(scheme_table(), std::move(entry), "relaxation scheme");
+}
+
+const BreakRuleEntry& break_rule_named(const std::string& name) {
+  return named(rule_table(), name, "break rule");
+}
+const RelaxationEntry& relaxation_named(const std::string& name) {
+  return named(scheme_table(), name, "relaxation scheme");
+}
+
+}  // namespace lem
