@@ -11,7 +11,7 @@ import os
 from .convergence import bonds_of_mesh_density, extrapolate
 from .files import atomic_open
 from .phases import broken_column
-from .results import ResultsError, read_json
+from .results import SUMMARY, ResultsError, read_json
 from .study_axes import DEFAULT_SAMPLE_PARTICLES, bond_axis
 
 NAN = float("nan")
@@ -94,7 +94,7 @@ def sample_rows(study):
             pull = pulls.get((lattice["tag"], rho, contacts))
             summary = {}
             if pull is not None and study.state(pull) == "complete":
-                summary = read_json(os.path.join(study.pull_dir(pull), "summary.json"))
+                summary = read_json(os.path.join(study.pull_dir(pull), SUMMARY))
             row["E_%s_over_E_unit" % contacts] = number(summary, "E_eff") / row["E_hom"]
             row["nu_%s" % contacts] = number(summary, "nu")
         rows.append(row)

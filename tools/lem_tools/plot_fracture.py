@@ -17,7 +17,8 @@ from . import cli
 from .errors import ToolError
 from .phases import BREAKABLE, broken_column, phase_name
 from .plotting import phase_color, plt, save_figure
-from .results import finite_number, read_broken, read_curve, read_summary, require_finished
+from .results import (BROKEN, CURVE, FRACTURE_PLOT, SUMMARY, finite_number, read_broken,
+                      read_curve, read_summary, require_finished)
 
 MAX_SCATTER = 60000  # broken bonds drawn in panel (b); the legend counts all of them
 STRAIN_SCALE = 1e3   # strain axes are in units of 1e-3
@@ -179,13 +180,13 @@ def draw(directory):
     if not os.path.isdir(directory):
         raise ToolError(f"{directory} is not a directory")
     require_finished(directory)
-    summary = read_summary(f"{directory}/summary.json")
-    curve = read_curve(f"{directory}/curve.csv")
-    xyz, phase, threshold = read_broken(f"{directory}/broken.csv")
+    summary = read_summary(os.path.join(directory, SUMMARY))
+    curve = read_curve(os.path.join(directory, CURVE))
+    xyz, phase, threshold = read_broken(os.path.join(directory, BROKEN))
     # Bonds of zero threshold (bare contacts, sigma^pp = 0) open at the first
     # tension: they are no crack and are counted, not drawn.
     bare = threshold <= 0
-    calibration_file = f"{directory}/calibration/curve.csv"
+    calibration_file = os.path.join(directory, "calibration", CURVE)
     calibration = read_curve(calibration_file) if os.path.exists(calibration_file) else None
 
     fig = plt.figure(figsize=(12, 4.5))
@@ -198,7 +199,7 @@ def draw(directory):
     panel_bonds(ax_bonds, xyz, phase, bare)
     panel_damage(ax_damage, curve)
     fig.suptitle(title(summary, directory), fontsize=10)
-    out = f"{directory}/fracture.png"
+    out = os.path.join(directory, FRACTURE_PLOT)
     save_figure(fig, out, also=(".pdf",), dpi=120)
     print(f"wrote {out} and fracture.pdf")
 

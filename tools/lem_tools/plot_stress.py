@@ -31,13 +31,13 @@ from . import cli
 from .analysis import TAIL_START, ZZ, mid_plane_map, node_stress_statistics
 from .files import write_json
 from .plotting import plt, save_figure
-from .results import read_elastic
+from .results import ELASTIC, STRESS_FIT, STRESS_PLOT, read_elastic
 
 BINS = 80
 
 
 def draw(out):
-    d = read_elastic(os.path.join(out, "elastic.h5"))
+    d = read_elastic(os.path.join(out, ELASTIC))
     result, s, loaded, on_face = node_stress_statistics(d)
     zz = d["stress"][:, ZZ]
     lo, hi = d["coords"].min(axis=0), d["coords"].max(axis=0)
@@ -91,8 +91,8 @@ def draw(out):
                  r"$\sigma_{zz}^i$ / applied = %.8f"
                  % (os.path.basename(os.path.abspath(out)), d["strain"], relative_mean))
     fig.tight_layout()
-    save_figure(fig, os.path.join(out, "stress.png"), also=(".pdf",), dpi=110)
-    write_json(os.path.join(out, "stress.json"), result)
+    save_figure(fig, os.path.join(out, STRESS_PLOT), also=(".pdf",), dpi=110)
+    write_json(os.path.join(out, STRESS_FIT), result)
     every = result["tail_all_nodes"]
     print("stress: beta = %s off the box faces (%s with the %d face nodes), volume average / "
           "applied = %.8f -> %s/stress.png"

@@ -126,7 +126,17 @@ def scalar(text):
     return text
 
 
+# The files of a result folder that the tools read or draw, named as the
+# programs write them (ResultLayout in src/run/result_folder.cpp; the test
+# tests/python/test_result_names.py keeps the two in step).
 MANIFEST = "manifest.txt"
+CURVE = "curve.csv"
+BROKEN = "broken.csv"
+SUMMARY = "summary.json"
+ELASTIC = "elastic.h5"
+FRACTURE_PLOT = "fracture.png"
+STRESS_PLOT = "stress.png"
+STRESS_FIT = "stress.json"
 
 
 def read_manifest(directory):

@@ -69,7 +69,7 @@ import yaml
 from . import cli
 from .errors import ToolError
 from .files import write_json
-from .results import ResultsError, finished_problem, read_json
+from .results import SUMMARY, ResultsError, finished_problem, read_json
 from .study_axes import AXIS_KEYS, SUBSET_KEYS, has_axes, is_number, lattices, read_axes
 
 TOOLS = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -318,7 +318,7 @@ class Study:
         directory = self.calibration_dir(lattice)
         if finished_problem(directory) is not None:
             return None
-        return read_json(os.path.join(directory, "summary.json"))
+        return read_json(os.path.join(directory, SUMMARY))
 
     def calibrate(self, index=None):
         """Each lattice (or the one of --index): its calibration, then the
@@ -373,7 +373,7 @@ class Study:
         d = self.pull_dir(pull)
         try:
             return (read_json(os.path.join(d, "run.json")) == self.run_record(pull)
-                    and os.path.exists(os.path.join(d, "summary.json")))
+                    and os.path.exists(os.path.join(d, SUMMARY)))
         except ResultsError:
             return False
 

@@ -13,7 +13,8 @@ from .analysis import (fit_eq10, k_c_r_eq14, replicate_means, sample_means,
 from .convergence_table import number, optional_json
 from .files import atomic_open, write_json
 from .phases import BREAKABLE, broken_column
-from .results import STUDY_COLUMNS, read_curve, read_stress_beta, read_summary
+from .results import (CURVE, STRESS_FIT, STUDY_COLUMNS, SUMMARY, read_curve, read_stress_beta,
+                      read_summary)
 from .study_axes import DEFAULT_SAMPLE_PARTICLES, has_axes, is_number
 
 
@@ -49,8 +50,8 @@ def collect(study, samples=None):
         if "contacts" in run:
             continue  # an elastic pull: in samples.csv
         d = study.run_dir(run)
-        row = run_row(run, read_summary(os.path.join(d, "summary.json")),
-                      study.spec["phases"], read_stress_beta(os.path.join(d, "stress.json")))
+        row = run_row(run, read_summary(os.path.join(d, SUMMARY)),
+                      study.spec["phases"], read_stress_beta(os.path.join(d, STRESS_FIT)))
         if samples is not None:
             row.update(convergence_table.run_axis_columns(study, run, samples))
             convergence_table.add_shares(row)
@@ -139,7 +140,7 @@ def gather(study):
     write_json(os.path.join(study.out, "fit.json"), record)
     if shown:
         by_id = {r["id"]: r for r in shown}
-        curves = {run_id: read_curve(os.path.join(study.run_dir(by_id[run_id]), "curve.csv"))
+        curves = {run_id: read_curve(os.path.join(study.run_dir(by_id[run_id]), CURVE))
                   for p in study_plots.damage_curve_picks(points) for run_id in p["runs"]}
         study_plots.draw_all(points, by_rho, fit, curves, study.spec["phases"], resolution,
                              os.path.join(study.out, "figures"))

@@ -29,7 +29,7 @@ import numpy as np
 
 from . import cli
 from .errors import ToolError
-from .results import read_csv, read_json
+from .results import BROKEN, CURVE, SUMMARY, read_csv, read_json
 
 COUNTS = ("solves", "iterations", "pc_builds", "elapsed_s", "broken")
 COLUMNS = ("step", "strain", "stress_before_norm", "stress_norm", "cycles", *COUNTS)
@@ -134,19 +134,19 @@ def read_run(directory, margins=(), tail_fraction=0.0):
     found = []
     for label, folder in (("calibration", os.path.join(directory, "calibration")),
                           ("sample", directory)):
-        path = _output_file(folder, "curve.csv")
+        path = _output_file(folder, CURVE)
         if path is None:
             continue
         table = read_csv(path, COLUMNS, need_rows=True)
         curve = {k: table.numbers(k) for k in COLUMNS}
-        summary = os.path.join(folder, "summary.json")
+        summary = os.path.join(folder, SUMMARY)
         if label == "sample" and os.path.exists(summary):
             peak = float(read_json(summary)["strain_at_peak"])
         else:
             peak = curve["strain"][int(np.argmax(curve["stress_before_norm"]))]
         near = None
         if margins:
-            broken_path = _output_file(folder, "broken.csv")
+            broken_path = _output_file(folder, BROKEN)
             if broken_path is None:
                 raise ToolError("%s: no broken.csv or broken.csv.part" % folder)
             columns = ("step", "cycle", "strain", "force", "threshold")
