@@ -13,6 +13,7 @@
 #include "lem/hdf5_writer.hpp"
 #include "lem/options.hpp"
 #include "lem/packing.hpp"
+#include "lem/packing_file.hpp"
 #include "lem/result_folder.hpp"
 #include "lem/sample_options.hpp"
 #include "lem/summary.hpp"
@@ -24,47 +25,6 @@ static const char help[] =
     "Jammed packing of polydisperse frictionless spheres (isotropic compaction in a periodic\n"
     "box) and a cubic sample of it, as in Affes et al., EPJE 35 (2012), sect. 2.2-2.3.\n";
 
-namespace {
-
-std::string spheres_csv(const lem::CubeSample& cube) {
-  std::string text = "x,y,z,radius\n";
-  char line[128];
-  for (const auto& s : cube.spheres) {
-    std::snprintf(line, sizeof line, "%.17g,%.17g,%.17g,%.17g\n", s.centre[0], s.centre[1],
-                  s.centre[2], s.radius);
-    text += line;
-  }
-  return text;
-}
-
-// The sidecar of a spheres table (<name>.json): what it holds and how it was made.
-std::string spheres_json(const lem::CubeSample& cube, const lem::Packing& packing,
-                         const lem::PackingSpec& spec, const lem::Provenance& prov,
-                         const std::string& what, const std::string& file) {
-  lem::Summary s;
-  s.add("file", file);
-  s.add("description", "lem_pack " + what + ": sphere centres x, y, z and radii, lengths in "
-                       "the units of d_min");
-  s.add("seed", static_cast<long long>(spec.seed));
-  s.add("d_min", spec.d_min);
-  s.add("d_max", spec.d_max);
-  s.add("distribution", std::string(spec.distribution == lem::SizeDistribution::uniform_volume
-                                        ? "uniform_volume" : "uniform_diameter"));
-  s.add("box_side", packing.box_side, "d_min");
-  s.add("box_spheres", static_cast<long long>(packing.spheres.size()));
-  s.add("box_volume_fraction", packing.stats.volume_fraction);
-  s.add("cube_side", cube.side, "d_min");
-  s.add("spheres", static_cast<long long>(cube.spheres.size()));
-  // The first centres_inside rows have their centres in the cube; the
-  // others reach in from outside.
-  s.add("centres_inside", static_cast<long long>(cube.centres_inside));
-  s.add("volume_fraction", cube.volume_fraction);
-  s.add("region_volume_fraction", cube.region_volume_fraction);
-  s.add_provenance(prov);
-  return s.json();
-}
-
-}  // namespace
 
 int main(int argc, char** argv) {
   return lem::run_driver(argc, argv, help, [](MPI_Comm comm) {
@@ -127,20 +87,20 @@ int main(int argc, char** argv) {
                "sphere reaching in %.6f)\n",
                cube.side, (long long)cube.centres_inside, cube.spheres.size(),
                cube.volume_fraction, cube.region_volume_fraction);
-      lem::write_text_file_atomically(dir + "/packing.csv", spheres_csv(cube));
+      lem::write_text_file_atomically(dir + "/packing.csv", lem::spheres_csv(cube));
       lem::write_text_file_atomically(
           dir + "/packing.json",
-          spheres_json(cube, packing, spec, provenance, "cubic sample", "packing.csv"));
+          lem::spheres_json(cube, packing, spec, provenance, "cubic sample", "packing.csv"));
       if (write_box) {
         lem::CubeSample whole;
         whole.side = packing.box_side;
         whole.spheres = packing.spheres;
         whole.centres_inside = static_cast<std::int64_t>(whole.spheres.size());
         whole.volume_fraction = whole.region_volume_fraction = st.volume_fraction;
-        lem::write_text_file_atomically(dir + "/packing_box.csv", spheres_csv(whole));
+        lem::write_text_file_atomically(dir + "/packing_box.csv", lem::spheres_csv(whole));
         lem::write_text_file_atomically(
             dir + "/packing_box.json",
-            spheres_json(whole, packing, spec, provenance, "periodic box", "packing_box.csv"));
+            lem::spheres_json(whole, packing, spec, provenance, "periodic box", "packing_box.csv"));
       }
     });
     folder.commit(lem::Summary{}, {});

@@ -54,7 +54,7 @@ struct FractureResult : FractureTally {
   bool past_peak() const { return broken_total() > 0 && final_stress < peak_stress; }
 };
 
-/// Runs the protocol on an assembled system.  Writes <output_dir>/curve.csv,
+/// Runs the protocol on an assembled system.  Writes <output.dir>/curve.csv,
 /// broken.csv (complete only at the end: *.part while running), snapshots
 /// and checkpoint.bin (which records a hash of the sample and the options
 /// that change the results, so that a resume with others is refused).  The
@@ -64,6 +64,7 @@ struct FractureResult : FractureTally {
 /// database for unused options after the first solve, when PETSc has read
 /// its own (a misspelt option stops the run there).
 FractureResult run_fracture(DistributedLattice& lattice, ElasticSystem& system,
-                            const FractureOptions& options, const Provenance& provenance);
+                            const FractureOptions& options, const FractureOutput& output,
+                            const Provenance& provenance);
 
 }  // namespace lem

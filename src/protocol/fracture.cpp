@@ -40,19 +40,19 @@ struct StopInRelaxation {
 class Protocol {
  public:
   Protocol(DistributedLattice& l, ElasticSystem& s, const FractureOptions& o,
-           const Provenance& provenance)
-      : l_(l), system_(s), o_(o), rule_(break_rule_named(o.break_rule).make()),
+           const FractureOutput& out, const Provenance& provenance)
+      : l_(l), system_(s), o_(o), out_(out), rule_(break_rule_named(o.break_rule).make()),
         critical_(l, *rule_, o.tie_band * s.rtol()),
         ledger_(l, s),
         solver_(s, ledger_, {o.rebuild_after_ruptures, o.rebuild_iteration_growth},
                 state_.preconditioner, state_.tally),
-        recorder_(l, s, o, provenance), progress_(o),
+        recorder_(l, s, out, provenance), progress_(o, out),
         relaxation_(relaxation_named(o.relaxation).make(RelaxationParts{
             l, s, o, critical_, ledger_, solver_, recorder_, progress_, clock_, state_.tally,
             [this](std::int64_t step, int cycles) { stop_between_cycles(step, cycles); },
             [this](double stress) { return needs_equilibrium(stress); }})),
-        checkpoint_(l, checkpoint_path(o.output_dir), fracture_fingerprint(l, o)),
-        warnings_(o) {}
+        checkpoint_(l, checkpoint_path(out.dir), fracture_fingerprint(l, o)),
+        warnings_(o, out.dir) {}
 
   FractureResult run();
 
@@ -74,6 +74,7 @@ class Protocol {
   DistributedLattice& l_;
   ElasticSystem& system_;
   const FractureOptions& o_;
+  const FractureOutput& out_;
   FractureState state_;
   FractureTally& tally_ = state_.tally;
   RunClock clock_;
@@ -233,7 +234,7 @@ FractureResult Protocol::run() {
     recorder_.open_new();
     state_.next_checkpoint_step = o_.checkpoint_steps;
     visit(1, true);
-    if (o_.elastic_fields) recorder_.elastic_fields(system_.response());
+    if (out_.elastic_fields) recorder_.elastic_fields(system_.response());
   }
   // PETSc has read its options by now: a misspelt one stops the run here.
   check_unused_options();
@@ -326,13 +327,14 @@ FractureResult Protocol::run() {
 }  // namespace
 
 FractureResult run_fracture(DistributedLattice& lattice, ElasticSystem& system,
-                            const FractureOptions& options, const Provenance& provenance) {
+                            const FractureOptions& options, const FractureOutput& output,
+                            const Provenance& provenance) {
   // Test hook: LEM_COLLECTIVE_LIMIT=<bytes> bounds every allgather and
   // broadcast of the run (checkpoints and resumes included), so that a test
   // shows none of them carries a per-node or per-bond array.
   const char* limit = std::getenv("LEM_COLLECTIVE_LIMIT");
   const CollectiveByteLimit bound(limit ? std::strtoull(limit, nullptr, 10) : 0);
-  Protocol protocol(lattice, system, options, provenance);
+  Protocol protocol(lattice, system, options, output, provenance);
   return protocol.run();
 }
 

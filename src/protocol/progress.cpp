@@ -50,7 +50,7 @@ void ProgressReporter::step_done(std::int64_t step, double strain, double stress
   else
     std::snprintf(estimate, sizeof(estimate), "%s",
                   estimate_.after_peak() ? "after the peak" : "before the peak");
-  const double norm = options_.stress_unit / options_.strength_unit;
+  const double norm = output_.stress_unit / output_.strength_unit;
   say("step %7lld  eps %.4e  sigma/sigma_u %.4f (peak %.4f)  broken %lld (+%lld in %d cycles)  "
       "loose nodes %lld  solves %lld  its %lld  PC builds %lld  %.1f s  %s\n",
       (long long)step, strain, stress * norm, t.peak_stress * norm, (long long)t.broken_total(),

@@ -19,11 +19,11 @@
 namespace lem {
 
 FractureRecorder::FractureRecorder(const DistributedLattice& lattice, const ElasticSystem& system,
-                                   const FractureOptions& options, const Provenance& provenance)
-    : lattice_(lattice), system_(system), options_(options), provenance_(provenance) {
+                                   const FractureOutput& output, const Provenance& provenance)
+    : lattice_(lattice), system_(system), output_(output), provenance_(provenance) {
   MPI_Comm_rank(lattice.comm, &rank_);
-  curve_.final_path = options.output_dir + "/curve.csv";
-  broken_.final_path = options.output_dir + "/broken.csv";
+  curve_.final_path = output.dir + "/curve.csv";
+  broken_.final_path = output.dir + "/broken.csv";
 }
 
 void FractureRecorder::Stream::open(const char* mode) {
@@ -126,7 +126,7 @@ std::string FractureRecorder::curve_sidecar() const {
   s.add("file", std::string("curve.csv"));
   s.add("description", std::string("stress-strain curve of lem_fracture, one row per evaluated "
                                    "load step"));
-  s.add("sigma_unit", options_.strength_unit, "E^phase");
+  s.add("sigma_unit", output_.strength_unit, "E^phase");
   for (const CurveColumn& c : kCurveColumns) s.add(c.name, std::string(c.meaning));
   s.add_provenance(provenance_);
   return s.json();
@@ -138,7 +138,7 @@ void FractureRecorder::open_new() {
     broken_.open("wb");
     // Snapshots of an earlier run would mix with this run's.
     std::error_code ec;
-    for (const auto& entry : std::filesystem::directory_iterator(options_.output_dir, ec))
+    for (const auto& entry : std::filesystem::directory_iterator(output_.dir, ec))
       if (entry.path().filename().string().rfind("snapshot", 0) == 0)  // snapshots.xmf too
         std::filesystem::remove(entry.path(), ec);
     // The header row comes first, so that any CSV reader takes the file as
@@ -147,7 +147,7 @@ void FractureRecorder::open_new() {
     broken_.print("step,cycle,strain,bond_id,phase,x,y,z,force,threshold\n");
     curve_.check();
     broken_.check();
-    write_text_file_atomically(options_.output_dir + "/curve.json", curve_sidecar());
+    write_text_file_atomically(output_.dir + "/curve.json", curve_sidecar());
   });
 }
 
@@ -164,7 +164,7 @@ void FractureRecorder::reopen(const ResultFileMarks& marks) {
         if (std::rename(final_path.c_str(), part.c_str()) != 0)
           throw IoError("cannot resume: renaming '" + final_path + "' back to '" + part +
                         "' failed: " + std::strerror(errno));
-        sync_directory(options_.output_dir);
+        sync_directory(output_.dir);
       }
       const auto actual = fs::file_size(part, ec);
       if (ec)
@@ -192,7 +192,7 @@ void FractureRecorder::curve_row(std::int64_t step, const TensionResponse& r,
                                  double stress_before, int cycles, bool idle,
                                  const FractureTally& t, double elapsed) {
   if (rank_ != 0) return;
-  const double su = options_.stress_unit, norm = su / options_.strength_unit;
+  const double su = output_.stress_unit, norm = su / output_.strength_unit;
   curve_.print("%lld,%.12e,%.12e,%.12e,%.12e,%.12e,%lld,%lld,%lld,%lld,%lld,%.6f,%d,%lld,%lld,"
                "%lld,%lld,%.12e,%.12e,%.12e,%d,%.3f\n",
                (long long)step, r.strain_zz, r.top_displacement / lattice_.mean_bond_length,
@@ -236,7 +236,7 @@ void FractureRecorder::sync() {
 }
 
 bool FractureRecorder::snapshot_due(std::int64_t step, std::int64_t previous_step) const {
-  const std::int64_t every = options_.snapshot_steps;
+  const std::int64_t every = output_.snapshot_steps;
   return every > 0 && step / every != previous_step / every;
 }
 
@@ -249,8 +249,8 @@ void FractureRecorder::snapshot_if_due(std::int64_t step, std::int64_t previous_
   Summary s;
   s.add("step", static_cast<long long>(step));
   s.add("strain", r.strain_zz);
-  s.add("stress_norm", r.stress_zz * options_.stress_unit / options_.strength_unit);
-  write_tension_fields(options_.output_dir + stem, lattice_, system_, provenance_, s);
+  s.add("stress_norm", r.stress_zz * output_.stress_unit / output_.strength_unit);
+  write_tension_fields(output_.dir + stem, lattice_, system_, provenance_, s);
 }
 
 void FractureRecorder::elastic_fields(const TensionResponse& r) {
@@ -261,9 +261,9 @@ void FractureRecorder::elastic_fields(const TensionResponse& r) {
   s.add("step", 1LL);
   s.add("strain", r.strain_zz);
   s.add("applied_stress", r.stress_zz);
-  s.add("stress_norm", r.stress_zz * options_.stress_unit / options_.strength_unit);
+  s.add("stress_norm", r.stress_zz * output_.stress_unit / output_.strength_unit);
   const auto mean =
-      write_tension_fields(options_.output_dir + "/elastic", lattice_, system_, provenance_, s);
+      write_tension_fields(output_.dir + "/elastic", lattice_, system_, provenance_, s);
   if (mean)
     say("node stresses at the first equilibrium: volume average of sigma_zz = %.10g, applied "
         "%.10g (relative gap %.1e)\n",
@@ -274,14 +274,14 @@ void FractureRecorder::finish() {
   run_on_root(lattice_.comm, [&] {
     // Every snapshot of the run (those of a resumed run's first part too),
     // as one series in time, the strain: once, at the end.
-    if (options_.snapshot_steps > 0) {
+    if (output_.snapshot_steps > 0) {
       std::vector<std::string> grids;
       std::error_code ec;
-      for (const auto& entry : std::filesystem::directory_iterator(options_.output_dir, ec))
+      for (const auto& entry : std::filesystem::directory_iterator(output_.dir, ec))
         if (is_snapshot_grid(entry.path().filename().string()))
           grids.push_back(entry.path().string());
       std::sort(grids.begin(), grids.end());  // zero-padded steps: in time order
-      write_xdmf_series(options_.output_dir + "/snapshots.xmf", grids, "strain");
+      write_xdmf_series(output_.dir + "/snapshots.xmf", grids, "strain");
     }
     // Both closed and synced before either is renamed: a failure renames
     // nothing.
@@ -293,7 +293,7 @@ void FractureRecorder::finish() {
                       "': " + std::strerror(errno));
       if (stream == &curve_) fault_point("between_renames");
     }
-    sync_directory(options_.output_dir);
+    sync_directory(output_.dir);
   });
 }
 

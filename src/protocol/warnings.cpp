@@ -17,8 +17,8 @@ std::vector<std::string> warning_words(const std::vector<RunWarning>& warnings,
 namespace {
 
 // One line, with the folder: a calibration warns for its own run.
-void print(const std::string& code, const FractureOptions& o, const std::string& message) {
-  say_warning("warning [%s] in %s: %s\n", code.c_str(), o.output_dir.c_str(), message.c_str());
+void print(const std::string& code, const std::string& dir, const std::string& message) {
+  say_warning("warning [%s] in %s: %s\n", code.c_str(), dir.c_str(), message.c_str());
 }
 
 }  // namespace
@@ -26,7 +26,7 @@ void print(const std::string& code, const FractureOptions& o, const std::string&
 void RunWarnings::raise(const std::string& code, std::int64_t count, const std::string& message) {
   if (options_.strict)
     throw NumericalError(message + " [" + code + ": an error under -fracture_strict]");
-  print(code, options_, message);
+  print(code, dir_, message);
   list_.push_back({code, count});
 }
 
@@ -41,7 +41,7 @@ void RunWarnings::after_step(const FractureTally& tally) {
   // the step before and resumes from it with better solver options.
   if (options_.strict)
     throw NumericalError(message + " [fallback_solver: an error under -fracture_strict]");
-  print("fallback_solver", options_, message + " (the count follows at the end)");
+  print("fallback_solver", dir_, message + " (the count follows at the end)");
 }
 
 void RunWarnings::at_end(const FractureTally& tally, double energy_balance_error,

@@ -61,33 +61,34 @@ Prepared prepare(MPI_Comm comm, const SampleOptions& sample, double break_strain
 }
 
 // Run the protocol on a prepared sample, write the fields.
-Case run_case(Prepared p, const SolverOptions& solver, FractureOptions options,
-              const Provenance& provenance, bool write_fields) {
+// (`output` without the stress unit, which is the sample's.)
+Case run_case(Prepared p, const SolverOptions& solver, const FractureOptions& options,
+              FractureOutput output, const Provenance& provenance, bool write_fields) {
   Case c;
   c.setup = p.setup;
-  c.stress_unit = options.stress_unit = p.stress_unit;
+  c.stress_unit = output.stress_unit = p.stress_unit;
   DistributedLattice& lattice = p.lattice;
   say("lattice: %lld nodes, %lld bonds in the system, a = %.4g; output %s/\n",
-           (long long)c.setup.sample.stats.nodes, (long long)c.setup.active_bonds,
-           lattice.mean_bond_length, options.output_dir.c_str());
+      (long long)c.setup.sample.stats.nodes, (long long)c.setup.active_bonds,
+      lattice.mean_bond_length, output.dir.c_str());
   ElasticSystem system(lattice, solver);
   check_unused_options(SolverStage::created);
   system.assemble();
-  c.result = run_fracture(lattice, system, options, provenance);
+  c.result = run_fracture(lattice, system, options, output, provenance);
   if (write_fields) {
     fault_pause(lattice.comm, "fields", "before the final fields");
     Summary s;
     s.add("steps", static_cast<long long>(c.result.steps));
-    write_tension_fields(options.output_dir + "/fields", lattice, system, provenance, s);
+    write_tension_fields(output.dir + "/fields", lattice, system, provenance, s);
   }
   return c;
 }
 
 // A checkpoint that the protocol will resume from (rank 0 decides).
-bool resumable(MPI_Comm comm, const FractureOptions& options) {
+bool resumable(MPI_Comm comm, const FractureOptions& options, const std::string& dir) {
   int found = 0;
   run_on_root(comm, [&] {
-    found = options.resume && std::filesystem::exists(checkpoint_path(options.output_dir));
+    found = options.resume && std::filesystem::exists(checkpoint_path(dir));
   });
   MPI_Bcast(&found, 1, MPI_INT, 0, comm);
   return found != 0;
@@ -96,16 +97,15 @@ bool resumable(MPI_Comm comm, const FractureOptions& options) {
 // What the result of this run depends on, recorded in its manifest: the
 // checkpoint's fingerprint (sample, thresholds, protocol options), where the
 // run ends, and how it is normalised and written.
-std::string result_fingerprint(const DistributedLattice& lattice,
-                               const FractureOptions& o, bool calibrating, double sigma_unit,
-                               double modulus_unit, bool fields) {
+std::string result_fingerprint(const DistributedLattice& lattice, const FractureOptions& o,
+                               const FractureRunOptions& run, bool calibrating) {
   std::ostringstream s;
   s.precision(17);
   s << fracture_fingerprint(lattice, o) << "stop_fraction=" << o.stop_fraction
     << "\nmax_strain_ratio=" << o.max_strain_ratio << "\nmax_steps=" << o.max_steps
-    << "\ncalibrate=" << calibrating << "\nsigma_unit=" << sigma_unit
-    << "\nmodulus_unit=" << modulus_unit << "\nfields=" << fields
-    << "\nsnapshot_steps=" << o.snapshot_steps << "\n";
+    << "\ncalibrate=" << calibrating << "\nsigma_unit=" << run.sigma_unit
+    << "\nmodulus_unit=" << run.modulus_unit << "\nfields=" << run.fields
+    << "\nsnapshot_steps=" << run.snapshot_steps << "\n";
   return s.str();
 }
 
@@ -114,14 +114,16 @@ std::string result_fingerprint(const DistributedLattice& lattice,
 // the warnings of a calibration run go to `warnings`.
 Calibration calibrate(MPI_Comm comm, const SampleOptions& sample,
                            const SolverOptions& solver, double break_strain,
-                           const FractureOptions& options, std::string path,
+                           const FractureOptions& options, const std::string& dir,
+                           std::string path,
                            const Provenance& provenance,
                            std::vector<RunWarning>& warnings) {
   SampleOptions hom = sample;
   hom.homogeneous = true;
   FractureOptions hom_options = options;
-  hom_options.output_dir = options.output_dir + "/calibration";
-  hom_options.strength_unit = sample.phases.strength[0];
+  FractureOutput hom_output;  // no fields, no snapshots
+  hom_output.dir = dir + "/calibration";
+  hom_output.strength_unit = sample.phases.strength[0];
   // Only the peak is needed: stop once the avalanche that follows it has
   // taken a tenth of the stress (docs/model/fracture.md, "Normalisation and the calibration").
   hom_options.stop_fraction = std::max(options.stop_fraction, kCalibrationStopFraction);
@@ -129,8 +131,6 @@ Calibration calibrate(MPI_Comm comm, const SampleOptions& sample,
   // -fracture_max_steps bounds the sample run, not its calibration.
   hom_options.max_steps = FractureOptions{}.max_steps;
   hom_options.checkpoint_seconds = 0;
-  hom_options.snapshot_steps = 0;
-  hom_options.elastic_fields = false;
   Prepared p = prepare(comm, hom, break_strain, hom_options);
   const std::string fingerprint = fracture_fingerprint(p.lattice, hom_options);
   const bool chosen = !path.empty();
@@ -144,8 +144,8 @@ Calibration calibrate(MPI_Comm comm, const SampleOptions& sample,
   }
   // A calibration stopped by a signal resumes from its checkpoint, whose
   // logs may already carry their final names.
-  prepare_output_dir(comm, hom_options.output_dir,
-                          resumable(comm, hom_options) ? std::vector<std::string>{}
+  prepare_output_dir(comm, hom_output.dir,
+                          resumable(comm, hom_options, hom_output.dir) ? std::vector<std::string>{}
                                                        : std::vector<std::string>{"curve.csv",
                                                                                   "curve.json",
                                                                                   "broken.csv"});
@@ -153,12 +153,12 @@ Calibration calibrate(MPI_Comm comm, const SampleOptions& sample,
            sample.phases.modulus[0], sample.phases.strength[0]);
   Case hom_case;
   try {
-    hom_case = run_case(std::move(p), solver, hom_options, provenance, false);
+    hom_case = run_case(std::move(p), solver, hom_options, hom_output, provenance, false);
   } catch (const Interrupted& e) {
     throw Interrupted(std::string("calibration ") + e.what());
   }
   warnings = hom_case.result.warnings;
-  run_on_root(comm, [&] { remove_checkpoint(hom_options.output_dir); });
+  run_on_root(comm, [&] { remove_checkpoint(hom_output.dir); });
   // A calibration is the peak of the homogeneous lattice: bonds broke and
   // the stress fell after it.  Anything else is not sigma^[p] and is never
   // stored (a later run would reuse it).
@@ -201,7 +201,7 @@ Calibration calibrate(MPI_Comm comm, const SampleOptions& sample,
 // The units of the curve and the summary (paper sect. 3): given, else the
 // calibration's sigma^[p] and E^[p], else the particle phase's own values
 // (sample files) or 1 (generated lattices, k/a units).
-void normalise(FractureOptions& o, const FractureRunOptions& run, const Calibration& c,
+void normalise(FractureOutput& o, const FractureRunOptions& run, const Calibration& c,
                const SampleOptions& sample) {
   const bool from_file = !sample.sample_file.empty();
   const double e_p = sample.phases.modulus[0], s_p = sample.phases.strength[0];
@@ -213,8 +213,8 @@ void normalise(FractureOptions& o, const FractureRunOptions& run, const Calibrat
 
 // summary.json / summary.csv of a finished run.
 Summary fracture_summary(MPI_Comm comm, const SampleOptions& sample, const FractureOptions& o,
-                         const Calibration& calibration, const Case& c,
-                         const std::vector<std::string>& warnings) {
+                         const FractureOutput& units, const Calibration& calibration,
+                         const Case& c, const std::vector<std::string>& warnings) {
   const FractureResult& r = c.result;
   const double e_eff = r.young_modulus * c.stress_unit, s_eff = r.peak_stress * c.stress_unit;
   Summary s;
@@ -223,18 +223,18 @@ Summary fracture_summary(MPI_Comm comm, const SampleOptions& sample, const Fract
   s.add("active_bonds", static_cast<long long>(c.setup.active_bonds));
   s.add("increment_over_a", o.increment);
   s.add("break_rule", o.break_rule);
-  s.add("sigma_unit", o.strength_unit, "stress");
-  s.add("E_unit", o.modulus_unit, "stress");
+  s.add("sigma_unit", units.strength_unit, "stress");
+  s.add("E_unit", units.modulus_unit, "stress");
   s.add("sigma_hom", calibration.sigma_hom, "stress");
   s.add("E_hom", calibration.e_hom, "stress");
   s.add("E_eff", e_eff, "stress");
-  s.add("E_eff_over_E_unit", e_eff / o.modulus_unit);
+  s.add("E_eff_over_E_unit", e_eff / units.modulus_unit);
   s.add("sigma_eff", s_eff, "stress");
-  s.add("sigma_eff_over_sigma_unit", s_eff / o.strength_unit);
+  s.add("sigma_eff_over_sigma_unit", s_eff / units.strength_unit);
   s.add("strain_at_peak", r.strain_at_peak);
   s.add("peak_step", static_cast<long long>(std::llround(r.peak_step)));
   s.add("final_strain", r.final_strain);
-  s.add("final_stress_over_sigma_unit", r.final_stress * c.stress_unit / o.strength_unit);
+  s.add("final_stress_over_sigma_unit", r.final_stress * c.stress_unit / units.strength_unit);
   s.add("broken", static_cast<long long>(r.broken_total()));
   for (int k = 0; k < kPhaseCount; ++k)
     if (static_cast<Phase>(k) != Phase::v)
@@ -284,7 +284,7 @@ Summary fracture_summary(MPI_Comm comm, const SampleOptions& sample, const Fract
   s.add("mpi_ranks", static_cast<long long>(ranks));
   say("end: %s at step %lld\n", r.end_reason.c_str(), (long long)r.steps);
   say("E_eff = %.6g (%.4f E_unit)   sigma_eff = %.6g (%.4f sigma_unit) at strain %.4e\n", e_eff,
-      e_eff / o.modulus_unit, s_eff, s_eff / o.strength_unit, r.strain_at_peak);
+      e_eff / units.modulus_unit, s_eff, s_eff / units.strength_unit, r.strain_at_peak);
   say("broken %lld bonds (n_b = %.4f), %lld solves (%lld iterations, %lld PC builds) over "
       "%lld steps; energy balance error %.2e; %.1f s\n",
       (long long)r.broken_total(), r.particle_damage(), (long long)r.solves,
@@ -336,10 +336,7 @@ FractureRunOptions read_fracture_run_options(MPI_Comm comm) {
 void run_fracture_job(MPI_Comm comm, const SampleOptions& sample,
                       const FractureOptions& protocol, const FractureRunOptions& run,
                       const SolverOptions& solver, const Provenance& provenance) {
-  FractureOptions options = protocol;  // with the run's output and units
-  options.output_dir = run.output_dir;
-  options.elastic_fields = run.fields;
-  options.snapshot_steps = run.snapshot_steps;
+  const FractureOptions& options = protocol;
   const bool from_file = !sample.sample_file.empty();
   const bool calibrating = from_file && run.calibrate && run.sigma_unit == 0 &&
                            run.modulus_unit == 0;
@@ -358,27 +355,30 @@ void run_fracture_job(MPI_Comm comm, const SampleOptions& sample,
                       "written; run the same command again");
   ResultFolder::Request request;
   request.dir = run.output_dir;
-  request.fingerprint = result_fingerprint(prepared.lattice, options, calibrating,
-                                           run.sigma_unit, run.modulus_unit, run.fields);
+  request.fingerprint = result_fingerprint(prepared.lattice, options, run, calibrating);
   request.overwrite = run.overwrite;
   request.resume = options.resume;
   request.strict = options.strict;
   const ResultFolder folder(comm, fracture_layout(), request);
   if (!folder.begin()) return;
-  options.output_dir = folder.work_dir();
 
   Calibration calibration;
   std::vector<RunWarning> calibration_warnings;
   if (calibrating)
-    calibration = calibrate(comm, sample, solver, run.break_strain, options,
+    calibration = calibrate(comm, sample, solver, run.break_strain, options, folder.work_dir(),
                             run.calibration_file, provenance, calibration_warnings);
-  normalise(options, run, calibration, sample);
-  const Case c = run_case(std::move(prepared), solver, options, provenance, run.fields);
+  // Where the run writes and its units: decided here, read-only below.
+  FractureOutput output;
+  output.dir = folder.work_dir();
+  output.elastic_fields = run.fields;
+  output.snapshot_steps = run.snapshot_steps;
+  normalise(output, run, calibration, sample);
+  const Case c = run_case(std::move(prepared), solver, options, output, provenance, run.fields);
   // Degradations (docs/model/fracture.md, "Warnings"): "code:count", the
   // calibration's prefixed; an empty list for a sound run.
   std::vector<std::string> warnings = warning_words(calibration_warnings, "calibration_");
   for (const auto& w : warning_words(c.result.warnings)) warnings.push_back(w);
-  Summary summary = fracture_summary(comm, sample, options, calibration, c, warnings);
+  Summary summary = fracture_summary(comm, sample, options, output, calibration, c, warnings);
   summary.add_provenance(provenance);
   folder.commit(summary, warnings);
   folder.install();

@@ -61,11 +61,15 @@ struct FractureOptions {
   // Checkpoints (0: never by that criterion); also on SIGTERM / SIGUSR1.
   std::int64_t checkpoint_steps = 0;
   double checkpoint_seconds = 600;
-  bool resume = true;                // resume from <output_dir>/checkpoint.bin
-  // Results.
-  std::string output_dir = "results/fracture";
+  bool resume = true;                // resume from <output dir>/checkpoint.bin
+};
+
+/// Where a run writes and in which units, decided by the run around the
+/// protocol (fracture_run.hpp) and read-only for the protocol.
+struct FractureOutput {
+  std::string dir = "results/fracture";
   std::int64_t snapshot_steps = 0;   // fields every this many load steps (0: none)
-  bool elastic_fields = false;       // <output_dir>/elastic.h5: the first equilibrium,
+  bool elastic_fields = false;       // <dir>/elastic.h5: the first equilibrium,
                                      // with node stresses when the lattice has volumes
   double strength_unit = 1.0;        // sigma^[p] for the normalised columns
   double modulus_unit = 1.0;         // E^[p]

@@ -40,7 +40,8 @@ class TimeLeftEstimate {
 
 class ProgressReporter {
  public:
-  explicit ProgressReporter(const FractureOptions& options) : options_(options) {}
+  ProgressReporter(const FractureOptions& options, const FractureOutput& output)
+      : options_(options), output_(output) {}
 
   /// One line per load step with ruptures, otherwise at most one per 10 s.
   void step_done(std::int64_t step, double strain, double stress, std::int64_t new_breaks,
@@ -50,6 +51,7 @@ class ProgressReporter {
 
  private:
   const FractureOptions& options_;
+  const FractureOutput& output_;
   double last_line_ = 0;  // MPI_Wtime of the last line
   TimeLeftEstimate estimate_;
 };

@@ -26,7 +26,7 @@ namespace lem {
 class FractureRecorder {
  public:
   FractureRecorder(const DistributedLattice& lattice, const ElasticSystem& system,
-                   const FractureOptions& options, const Provenance& provenance);
+                   const FractureOutput& output, const Provenance& provenance);
 
   /// Start new files (and drop an earlier run's snapshots), or reopen them
   /// at the recorded lengths.  Collective.
@@ -84,7 +84,7 @@ class FractureRecorder {
 
   const DistributedLattice& lattice_;
   const ElasticSystem& system_;
-  const FractureOptions& options_;
+  const FractureOutput& output_;
   const Provenance& provenance_;
   int rank_ = 0;
   Stream curve_, broken_;

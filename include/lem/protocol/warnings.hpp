@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace lem {
@@ -25,7 +26,9 @@ std::vector<std::string> warning_words(const std::vector<RunWarning>& warnings,
 
 class RunWarnings {
  public:
-  explicit RunWarnings(const FractureOptions& options) : options_(options) {}
+  /// `dir`: the run's folder, named in each warning.
+  RunWarnings(const FractureOptions& options, std::string dir)
+      : options_(options), dir_(std::move(dir)) {}
 
   /// A resumed run: fallback solves before the checkpoint were reported then.
   void resumed(const FractureTally& tally) { fallback_said_ = tally.fallback_solves > 0; }
@@ -47,6 +50,7 @@ class RunWarnings {
   void raise(const std::string& code, std::int64_t count, const std::string& message);
 
   const FractureOptions& options_;
+  std::string dir_;
   std::vector<RunWarning> list_;
   bool fallback_said_ = false;
 };
