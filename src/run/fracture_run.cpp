@@ -1,6 +1,7 @@
 #include "lem/fracture_run.hpp"
 
 #include "lem/calibration.hpp"
+#include "lem/collective.hpp"
 #include "lem/driver.hpp"
 #include "lem/error.hpp"
 #include "lem/log.hpp"
@@ -86,12 +87,12 @@ Case run_case(Prepared p, const SolverOptions& solver, const FractureOptions& op
 
 // A checkpoint that the protocol will resume from (rank 0 decides).
 bool resumable(MPI_Comm comm, const FractureOptions& options, const std::string& dir) {
-  int found = 0;
+  bool found = false;
   run_on_root(comm, [&] {
     found = options.resume && std::filesystem::exists(checkpoint_path(dir));
   });
-  MPI_Bcast(&found, 1, MPI_INT, 0, comm);
-  return found != 0;
+  broadcast_value(comm, found);
+  return found;
 }
 
 // What the result of this run depends on, recorded in its manifest: the

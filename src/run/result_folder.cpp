@@ -1,5 +1,6 @@
 #include "lem/result_folder.hpp"
 
+#include "lem/collective.hpp"
 #include "lem/error.hpp"
 #include "lem/files.hpp"
 #include "lem/log.hpp"
@@ -46,18 +47,13 @@ std::vector<std::string> family_files(const std::string& dir, const std::vector<
   return names;
 }
 
-int broadcast_flag(MPI_Comm comm, bool rank0_value) {
-  int flag = rank0_value ? 1 : 0;
-  MPI_Bcast(&flag, 1, MPI_INT, 0, comm);
-  return flag;
-}
-
 // Whether the staging folder of `dir` (<dir>.overwrite) is one of ours
 // (rank 0 decides).
 bool staging_is_ours(MPI_Comm comm, const std::string& dir) {
   bool ours = false;
   run_on_root(comm, [&] { ours = staging_state(dir) == StagingState::ours; });
-  return broadcast_flag(comm, ours) != 0;
+  broadcast_value(comm, ours);
+  return ours;
 }
 
 std::string joined(const std::vector<std::string>& words) {
@@ -245,7 +241,8 @@ ResultFolder::ResultFolder(MPI_Comm comm, const ResultLayout& layout, Request re
     // A run killed between its commit and the checkpoint's removal.
     if (finished) remove_checkpoint(dir);
   });
-  finished_ = broadcast_flag(comm, finished) != 0;
+  broadcast_value(comm, finished);
+  finished_ = finished;
   if (finished_) {
     say("the result in %s/ is complete (manifest.txt): nothing to do; pass "
         "-output_overwrite to compute it again\n", dir.c_str());
@@ -255,7 +252,8 @@ ResultFolder::ResultFolder(MPI_Comm comm, const ResultLayout& layout, Request re
   // staging folder and takes the old one's place only when complete.
   bool staging = false;
   run_on_root(comm, [&] { staging = request_.overwrite && (staged || has_manifest(dir)); });
-  staging_ = broadcast_flag(comm, staging) != 0;
+  broadcast_value(comm, staging);
+  staging_ = staging;
   if (!staging_) {
     staging_lock_.reset();  // held only to finish or report what it holds
     return;
@@ -275,8 +273,10 @@ ResultFolder::ResultFolder(MPI_Comm comm, const ResultLayout& layout, Request re
     exchange = prepare_staging(dir);
     pending = staged_complete(layout_, request_);
   });
-  exchange_ = broadcast_flag(comm, exchange) != 0;
-  pending_ = broadcast_flag(comm, pending) != 0;
+  broadcast_value(comm, exchange);
+  broadcast_value(comm, pending);
+  exchange_ = exchange;
+  pending_ = pending;
   work_ = staging_dir(dir);
   if (!pending_)
     say("-output_overwrite: the new result is computed in %s/; the one in %s/ stays "
@@ -292,7 +292,8 @@ ResultFolder::~ResultFolder() = default;
 bool ResultFolder::resuming() const {
   bool found = false;
   run_on_root(comm_, [&] { found = request_.resume && fs::exists(checkpoint_path(work_)); });
-  return broadcast_flag(comm_, found) != 0;
+  broadcast_value(comm_, found);
+  return found;
 }
 
 bool ResultFolder::begin() const {
