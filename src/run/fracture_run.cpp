@@ -129,9 +129,10 @@ Calibration calibrate(MPI_Comm comm, const SampleOptions& sample,
   // taken a tenth of the stress (docs/model/fracture.md, "Normalisation and the calibration").
   hom_options.stop_fraction = std::max(options.stop_fraction, kCalibrationStopFraction);
   hom_options.stop_within_step = true;
-  // -fracture_max_steps bounds the sample run, not its calibration.
+  // -fracture_max_steps bounds the sample run, not its calibration; the
+  // run's checkpoints (-checkpoint_seconds, -checkpoint_steps) cover both: a
+  // calibration of 10^7 bonds takes hours.
   hom_options.max_steps = FractureOptions{}.max_steps;
-  hom_options.checkpoint_seconds = 0;
   Prepared p = prepare(comm, hom, break_strain, hom_options);
   const std::string fingerprint = fracture_fingerprint(p.lattice, hom_options);
   const bool chosen = !path.empty();

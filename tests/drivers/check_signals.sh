@@ -9,6 +9,10 @@
 #                    calibrates into its own file
 #   calibration      SIGUSR1 to mpirun in the middle of a calibration
 #                    avalanche: the rerun resumes the calibration
+#   calibration_kill kill -9 of both ranks in a calibration avalanche, with
+#                    timed checkpoints at every step (-checkpoint_seconds
+#                    1e-6): the rerun resumes the calibration from the last
+#                    one
 #   after_calibration SIGTERM to rank 1 once the calibration's last step is
 #                    done: it is stored, exit 4; the rerun does not redo it
 #   avalanche        SIGUSR1 to rank 0 between relaxation cycles of a step
@@ -104,6 +108,20 @@ calibration)
     fail "message: $(grep -v '^step' "$cut_log" | tail -3)"
   mid_step "$ref/calibration/curve.csv"
   [ -s "$cut/calibration/checkpoint.bin" ] || fail "no calibration checkpoint"
+  [ ! -e "$cut.cal" ] || fail "a calibration stored before it was complete"
+  resume "$cut"
+  grep -q "^resumed from $cut/calibration/checkpoint.bin" "$cut.log" ||
+    fail "the calibration was not resumed: $(grep calibration "$cut.log" | head -3)"
+  [ "$(values "$cut.cal")" = "$(values "$ref.cal")" ] || fail "other calibration values"
+  echo "ok: $(grep '^resumed' "$cut.log"); calibration and result identical"
+  ;;
+calibration_kill)
+  args+=(-checkpoint_seconds 1e-6)  # after the 0 above: a timed checkpoint at every step
+  LEM_FAULT_PAUSE=relaxation_cycle:45 start "$cut" "${mpi[@]}" -n 2
+  wait_paused
+  [ -s "$cut/calibration/checkpoint.bin" ] || fail "the calibration wrote no timed checkpoint"
+  kill -KILL $(rank_pids)
+  wait "$leader"; leader=""
   [ ! -e "$cut.cal" ] || fail "a calibration stored before it was complete"
   resume "$cut"
   grep -q "^resumed from $cut/calibration/checkpoint.bin" "$cut.log" ||
