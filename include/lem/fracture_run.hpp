@@ -13,7 +13,9 @@
 #include <mpi.h>
 
 #include <cstdint>
+#include <functional>
 #include <string>
+#include <vector>
 
 namespace lem {
 
@@ -40,6 +42,24 @@ FractureRunOptions read_fracture_run_options(MPI_Comm comm);
 void run_fracture_job(MPI_Comm comm, const SampleOptions& sample,
                       const FractureOptions& protocol, const FractureRunOptions& run,
                       const SolverOptions& solver, const Provenance& provenance);
+
+/// A file that a program adds to each of its lem_fracture results
+/// (docs/developer/extending.md, "An output").
+struct FractureOutputEntry {
+  std::string file;  // its name in the result folder, e.g. "damage_profile.csv"
+  /// Writes it at the end of the sample's run (not the calibration's),
+  /// collectively, from the broken lattice and the run's result.  `path` is
+  /// in the folder being written: the commit lists the file in the manifest
+  /// and a run that does not finish leaves nothing that looks complete.
+  std::function<void(const DistributedLattice& lattice, const FractureResult& result,
+                     const std::string& path)>
+      write;
+};
+
+/// Add one before fracture_program reads the options (std::invalid_argument
+/// if its file is one lem_fracture writes or already registered).
+void register_fracture_output(FractureOutputEntry entry);
+const std::vector<FractureOutputEntry>& fracture_outputs();
 
 /// The whole program lem_fracture (its main): the options read, then the
 /// job, inside the driver frame that turns errors and stop requests into

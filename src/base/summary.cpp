@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <sstream>
+#include <stdexcept>
 
 namespace lem {
 namespace {
@@ -56,6 +57,20 @@ std::string text(const Summary::Value& v, bool json) {
 
 void Summary::add(const std::string& name, Value value, const std::string& unit) {
   entries_.push_back({name, unit, std::move(value)});
+}
+
+void Summary::Described::put(const std::string& name, Value value) {
+  if (next_ >= fields_.size() || name != fields_[next_].name)
+    throw std::logic_error("summary entry '" + name + "' is not the next of its table (" +
+                           (next_ < fields_.size() ? fields_[next_].name : "none left") + ")");
+  summary_.add(name, std::move(value), fields_[next_].unit);
+  ++next_;
+}
+
+void Summary::Described::done() const {
+  if (next_ != fields_.size())
+    throw std::logic_error(std::string("summary entry '") + fields_[next_].name +
+                           "' of its table was not written");
 }
 
 void Summary::add_provenance(const Provenance& p) {

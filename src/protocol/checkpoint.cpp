@@ -22,7 +22,7 @@ namespace {
 
 // Version 4: written collectively by id (version 3 went through rank 0 whole;
 // version 2 had no check field, version 1 another state layout).
-constexpr char kCheckpointMagic[8] = {'L', 'E', 'M', 'C', 'K', 'P', 'T', '4'};
+constexpr char kCheckpointMagic[8] = {'L', 'E', 'M', 'C', 'K', 'P', 'T', '5'};
 
 void put(ByteWriter& w, const DamageHistory& h) {
   w.vec(h.bond_events), w.vec(h.bond_batches), w.vec(h.node_events), w.vec(h.node_batches);
@@ -58,6 +58,7 @@ std::vector<char> head_bytes(const Checkpoint& c, std::uint64_t displacement_val
   body.pod(static_cast<std::uint64_t>(sizeof(FractureState)));
   body.pod(c.state);
   body.str(c.fingerprint);
+  body.str(c.relaxation_state);
   put(body, c.damage);
   body.pod(displacement_values);
   body.pod(check_values);
@@ -176,6 +177,7 @@ Checkpoint parse_head(const std::vector<char>& bytes, const std::string& bad) {
     if (state_size != sizeof(FractureState)) throw std::runtime_error("version");
     r.pod(c.state);
     r.str(c.fingerprint);
+    r.str(c.relaxation_state);
     get(r, c.damage);
     r.pod(values), r.pod(values);
     const DamageHistory& h = c.damage;
@@ -520,15 +522,18 @@ Checkpoint CheckpointStore::load() const {
   return c;
 }
 
-void CheckpointStore::hold(const FractureState& state, const DamageMark& damage,
-                           std::vector<double> owned_u, std::vector<double> owned_check) {
-  held_ = {state, damage, std::move(owned_u), std::move(owned_check)};
+void CheckpointStore::hold(const FractureState& state, std::string relaxation_state,
+                           const DamageMark& damage, std::vector<double> owned_u,
+                           std::vector<double> owned_check) {
+  held_ = {state, std::move(relaxation_state), damage, std::move(owned_u),
+           std::move(owned_check)};
 }
 
 void CheckpointStore::save(const DamageLedger& ledger) const {
   Checkpoint c;
   c.state = held_.state;
   c.fingerprint = fingerprint_;
+  c.relaxation_state = held_.relaxation_state;
   c.damage = ledger.prefix(held_.damage);
   c.displacement = held_.u;
   c.check_displacement = held_.check;

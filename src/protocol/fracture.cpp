@@ -102,6 +102,13 @@ void Protocol::resume() {
   if (c.state.preconditioner.rebuild_pending) system_.rebuild_preconditioner();
   state_ = c.state;
   clock_.seconds_before = c.state.seconds_before;
+  try {
+    relaxation_->restore_state(c.relaxation_state);
+  } catch (const std::runtime_error& e) {
+    throw InputError("the checkpoint '" + checkpoint_.path() + "' does not fit the relaxation "
+                     "scheme '" + o_.relaxation + "' (" + e.what() + "); remove it or pass "
+                     "-checkpoint_resume false");
+  }
 }
 
 void Protocol::note_peak(const TensionResponse& r) {
@@ -170,7 +177,8 @@ void Protocol::hold_equilibrium() {
   state_.batches = ledger_.batches();
   FractureState held = state_;
   held.seconds_before = clock_.elapsed();
-  checkpoint_.hold(held, ledger_.mark(), system_.solution(), system_.check_solution());
+  checkpoint_.hold(held, relaxation_->saved_state(), ledger_.mark(), system_.solution(),
+                   system_.check_solution());
   holding_ = true;
 }
 
@@ -321,10 +329,17 @@ FractureResult Protocol::run() {
   result.end_reason = end;
   result.seconds = clock_.elapsed();
   result.resumed = resumed;
+  result.relaxation_report = relaxation_->report();
   return result;
 }
 
 }  // namespace
+
+double FractureResult::relaxation_count(const std::string& name) const {
+  for (const auto& [key, value] : relaxation_report)
+    if (key == name) return value;
+  return 0;
+}
 
 FractureResult run_fracture(DistributedLattice& lattice, ElasticSystem& system,
                             const FractureOptions& options, const FractureOutput& output,

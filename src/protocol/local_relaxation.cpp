@@ -6,6 +6,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+#include <type_traits>
 
 namespace lem {
 
@@ -84,13 +88,13 @@ bool LocalRelaxation::local_phase(std::int64_t step, double strain, std::vector<
     std::int64_t size = static_cast<std::int64_t>(nodes.size()), total = 0;
     MPI_Allreduce(&size, &total, 1, MPI_INT64_T, MPI_SUM, p_.lattice.comm);
     if (static_cast<double>(total) > o.patch_max_fraction * static_cast<double>(free_nodes_)) {
-      p_.tally.patch_overflows += 1;
+      counters_.overflows += 1;
       return true;
     }
     const SolveReport r = p_.system.relax_patch(nodes, o.patch_rtol);
-    p_.tally.patch_solves += 1;
-    p_.tally.patch_iterations += r.iterations;
-    p_.tally.patch_nodes += total;
+    counters_.solves += 1;
+    counters_.iterations += r.iterations;
+    counters_.nodes += total;
     if (r.reason < 0) return true;  // leave it to the global solve
     std::vector<double> tensions = p_.system.bond_tensions();
     batch = certain(p_.critical.find(tensions));
@@ -108,11 +112,11 @@ bool LocalRelaxation::local_phase(std::int64_t step, double strain, std::vector<
 void LocalRelaxation::check_patch_error(std::int64_t step,
                                         const std::vector<double>& patch_tensions) {
   const double e = patch_error(patch_tensions, p_.system.bond_tensions());
-  p_.tally.patch_error_max = std::max(p_.tally.patch_error_max, e);
-  if (e > p_.options.patch_margin && p_.tally.patch_disabled_step == 0) {
+  counters_.error_max = std::max(counters_.error_max, e);
+  if (e > p_.options.patch_margin && counters_.disabled_step == 0) {
     // The margin did not bound the patch error: decisions of this phase
     // may differ from the reference's; take none on patches again.
-    p_.tally.patch_disabled_step = step;
+    counters_.disabled_step = step;
     say("step %lld: a patch field erred by %.3g of a threshold, above -fracture_patch_margin "
         "%.3g; the rest of the run relaxes globally\n",
         static_cast<long long>(step), e, p_.options.patch_margin);
@@ -130,7 +134,7 @@ RelaxationOutcome LocalRelaxation::relax(std::int64_t step, double top_displacem
     bool joined = break_batch(batch, step, out.cycles, strain);
     note_batch(step, batch, out);
     std::vector<double> patch_tensions;
-    if (joined && p_.tally.patch_disabled_step == 0)
+    if (joined && counters_.disabled_step == 0)
       joined = local_phase(step, strain, batch, out, patch_tensions);
     p_.solver.solve(top_displacement, true);
     if (!joined) {
@@ -142,6 +146,29 @@ RelaxationOutcome LocalRelaxation::relax(std::int64_t step, double top_displacem
   }
   if (out.broken > 0) p_.recorder.flush_ruptures();
   return out;
+}
+
+std::string LocalRelaxation::saved_state() const {
+  static_assert(std::is_trivially_copyable_v<Counters>);
+  return std::string(reinterpret_cast<const char*>(&counters_), sizeof(counters_));
+}
+
+void LocalRelaxation::restore_state(const std::string& bytes) {
+  if (bytes.size() != sizeof(counters_))
+    throw std::runtime_error("a local relaxation state of " + std::to_string(bytes.size()) +
+                             " bytes, not " + std::to_string(sizeof(counters_)));
+  std::memcpy(&counters_, bytes.data(), sizeof(counters_));
+}
+
+std::vector<std::pair<std::string, double>> LocalRelaxation::report() const {
+  const auto real = [](std::int64_t n) { return static_cast<double>(n); };
+  return {{"patch_solves", real(counters_.solves)},
+          {"patch_iterations", real(counters_.iterations)},
+          {"patch_nodes_mean",
+           counters_.solves > 0 ? real(counters_.nodes) / real(counters_.solves) : 0.0},
+          {"patch_overflows", real(counters_.overflows)},
+          {"patch_error_max", counters_.error_max},
+          {"patch_disabled_step", real(counters_.disabled_step)}};
 }
 
 }  // namespace lem

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <utility>
+#include <stdexcept>
 
 namespace lem {
 
@@ -128,6 +129,12 @@ std::vector<Rupture> Relaxation::next_batch(double top_displacement) {
     tensions = p_.system.bond_tensions();
   }
   return p_.critical.find(tensions);
+}
+
+void Relaxation::restore_state(const std::string& bytes) {
+  if (!bytes.empty())
+    throw std::runtime_error("a relaxation state of " + std::to_string(bytes.size()) +
+                             " bytes where the scheme keeps none");
 }
 
 bool Relaxation::stress_fell(double stress_before) const {

@@ -4,6 +4,7 @@
 #include "lem/collective.hpp"
 #include "lem/driver.hpp"
 #include "lem/error.hpp"
+#include "lem/fracture_summary.hpp"
 #include "lem/log.hpp"
 #include "lem/options.hpp"
 #include "lem/phase.hpp"
@@ -18,6 +19,7 @@
 #include <cmath>
 #include <filesystem>
 #include <sstream>
+#include <stdexcept>
 
 namespace lem {
 
@@ -64,7 +66,8 @@ Prepared prepare(MPI_Comm comm, const SampleOptions& sample, double break_strain
 // Run the protocol on a prepared sample, write the fields.
 // (`output` without the stress unit, which is the sample's.)
 Case run_case(Prepared p, const SolverOptions& solver, const FractureOptions& options,
-              FractureOutput output, const Provenance& provenance, bool write_fields) {
+              FractureOutput output, const Provenance& provenance, bool write_fields,
+              bool registered_outputs) {
   Case c;
   c.setup = p.setup;
   c.stress_unit = output.stress_unit = p.stress_unit;
@@ -82,6 +85,9 @@ Case run_case(Prepared p, const SolverOptions& solver, const FractureOptions& op
     s.add("steps", static_cast<long long>(c.result.steps));
     write_tension_fields(output.dir + "/fields", lattice, system, provenance, s);
   }
+  if (registered_outputs)
+    for (const FractureOutputEntry& e : fracture_outputs())
+      e.write(lattice, c.result, output.dir + "/" + e.file);
   return c;
 }
 
@@ -155,7 +161,7 @@ Calibration calibrate(MPI_Comm comm, const SampleOptions& sample,
            sample.phases.modulus[0], sample.phases.strength[0]);
   Case hom_case;
   try {
-    hom_case = run_case(std::move(p), solver, hom_options, hom_output, provenance, false);
+    hom_case = run_case(std::move(p), solver, hom_options, hom_output, provenance, false, false);
   } catch (const Interrupted& e) {
     throw Interrupted(std::string("calibration ") + e.what());
   }
@@ -220,31 +226,32 @@ Summary fracture_summary(MPI_Comm comm, const SampleOptions& sample, const Fract
   const FractureResult& r = c.result;
   const double e_eff = r.young_modulus * c.stress_unit, s_eff = r.peak_stress * c.stress_unit;
   Summary s;
-  s.add("sample_file", sample.sample_file);
-  s.add("nodes", static_cast<long long>(c.setup.sample.stats.nodes));
-  s.add("active_bonds", static_cast<long long>(c.setup.active_bonds));
-  s.add("increment_over_a", o.increment);
-  s.add("break_rule", o.break_rule);
-  s.add("sigma_unit", units.strength_unit, "stress");
-  s.add("E_unit", units.modulus_unit, "stress");
-  s.add("sigma_hom", calibration.sigma_hom, "stress");
-  s.add("E_hom", calibration.e_hom, "stress");
-  s.add("E_eff", e_eff, "stress");
-  s.add("E_eff_over_E_unit", e_eff / units.modulus_unit);
-  s.add("sigma_eff", s_eff, "stress");
-  s.add("sigma_eff_over_sigma_unit", s_eff / units.strength_unit);
-  s.add("strain_at_peak", r.strain_at_peak);
-  s.add("peak_step", static_cast<long long>(std::llround(r.peak_step)));
-  s.add("final_strain", r.final_strain);
-  s.add("final_stress_over_sigma_unit", r.final_stress * c.stress_unit / units.strength_unit);
-  s.add("broken", static_cast<long long>(r.broken_total()));
+  Summary::Described d(s, fracture_summary_fields());
+  d.put("sample_file", sample.sample_file);
+  const auto count = [&](const char* name, std::int64_t n) {
+    d.put(name, static_cast<long long>(n));
+  };
+  count("nodes", c.setup.sample.stats.nodes);
+  count("active_bonds", c.setup.active_bonds);
+  d.put("increment_over_a", o.increment);
+  d.put("break_rule", o.break_rule);
+  d.put("sigma_unit", units.strength_unit);
+  d.put("E_unit", units.modulus_unit);
+  d.put("sigma_hom", calibration.sigma_hom);
+  d.put("E_hom", calibration.e_hom);
+  d.put("E_eff", e_eff);
+  d.put("E_eff_over_E_unit", e_eff / units.modulus_unit);
+  d.put("sigma_eff", s_eff);
+  d.put("sigma_eff_over_sigma_unit", s_eff / units.strength_unit);
+  d.put("strain_at_peak", r.strain_at_peak);
+  count("peak_step", std::llround(r.peak_step));
+  d.put("final_strain", r.final_strain);
+  d.put("final_stress_over_sigma_unit", r.final_stress * c.stress_unit / units.strength_unit);
+  count("broken", r.broken_total());
   for (int k = 0; k < kPhaseCount; ++k)
     if (static_cast<Phase>(k) != Phase::v)
-      s.add(std::string("broken_") + kPhaseNames[k], static_cast<long long>(r.broken[k]));
-  s.add("n_b", r.particle_damage());
-  const auto count = [&](const char* name, std::int64_t n) {
-    s.add(name, static_cast<long long>(n));
-  };
+      count((std::string("broken_") + kPhaseNames[k]).c_str(), r.broken[k]);
+  d.put("n_b", r.particle_damage());
   count("detached_bonds", r.detached_bonds);
   count("pinned_nodes", r.pinned_nodes);
   count("steps", r.steps);
@@ -258,32 +265,36 @@ Summary fracture_summary(MPI_Comm comm, const SampleOptions& sample, const Fract
   count("ksp_iterations", r.iterations);
   count("pc_builds", r.preconditioner_builds);
   count("fallback_solves", r.fallback_solves);
-  s.add("relaxation", o.relaxation);
-  count("patch_solves", r.patch_solves);
-  count("patch_iterations", r.patch_iterations);
-  s.add("patch_nodes_mean", r.patch_solves > 0 ? static_cast<double>(r.patch_nodes) /
-                                                     static_cast<double>(r.patch_solves)
-                                               : 0.0);
-  count("patch_overflows", r.patch_overflows);
-  s.add("patch_error_max", r.patch_error_max);
-  count("patch_disabled_step", r.patch_disabled_step);
+  d.put("relaxation", o.relaxation);
+  // The local scheme's counts (0 for the others: every summary has the
+  // same entries, so that a study's table can hold runs of any scheme).
+  const auto scheme_count = [&](const char* name) {
+    count(name, std::llround(r.relaxation_count(name)));
+  };
+  scheme_count("patch_solves");
+  scheme_count("patch_iterations");
+  d.put("patch_nodes_mean", r.relaxation_count("patch_nodes_mean"));
+  scheme_count("patch_overflows");
+  d.put("patch_error_max", r.relaxation_count("patch_error_max"));
+  scheme_count("patch_disabled_step");
   // A plain run solves at every step plus every relaxation cycle.
   count("solves_stepping_estimate", r.steps + r.relaxation_cycles);
-  s.add("work", r.work, "lattice");
-  s.add("stored_energy", r.stored_energy, "lattice");
-  s.add("released_energy", r.released_energy, "lattice");
-  s.add("energy_balance_error", r.energy_balance_error);
-  s.add("end_reason", r.end_reason);
-  s.add("warnings", warnings);
+  d.put("work", r.work);
+  d.put("stored_energy", r.stored_energy);
+  d.put("released_energy", r.released_energy);
+  d.put("energy_balance_error", r.energy_balance_error);
+  d.put("end_reason", r.end_reason);
+  d.put("warnings", warnings);
   count("resumed", r.resumed);
-  s.add("seconds", r.seconds, "s");
+  d.put("seconds", r.seconds);
   // Of this process: a resumed run reports its own part.
   const PeakMemory memory = peak_memory(comm);
-  s.add("peak_memory_mb", memory.max_mb, "MB");
-  s.add("peak_memory_mean_mb", memory.mean_mb, "MB");
+  d.put("peak_memory_mb", memory.max_mb);
+  d.put("peak_memory_mean_mb", memory.mean_mb);
   int ranks = 1;
   MPI_Comm_size(comm, &ranks);
-  s.add("mpi_ranks", static_cast<long long>(ranks));
+  count("mpi_ranks", ranks);
+  d.done();
   say("end: %s at step %lld\n", r.end_reason.c_str(), (long long)r.steps);
   say("E_eff = %.6g (%.4f E_unit)   sigma_eff = %.6g (%.4f sigma_unit) at strain %.4e\n", e_eff,
       e_eff / units.modulus_unit, s_eff, s_eff / units.strength_unit, r.strain_at_peak);
@@ -361,7 +372,10 @@ void run_fracture_job(MPI_Comm comm, const SampleOptions& sample,
   request.overwrite = run.overwrite;
   request.resume = options.resume;
   request.strict = options.strict;
-  const ResultFolder folder(comm, fracture_layout(), request);
+  // Files of registered outputs are part of every finished result.
+  ResultLayout layout = fracture_layout();
+  for (const FractureOutputEntry& e : fracture_outputs()) layout.required.push_back(e.file);
+  const ResultFolder folder(comm, layout, request);
   if (!folder.begin()) return;
 
   Calibration calibration;
@@ -375,7 +389,8 @@ void run_fracture_job(MPI_Comm comm, const SampleOptions& sample,
   output.elastic_fields = run.fields;
   output.snapshot_steps = run.snapshot_steps;
   normalise(output, run, calibration, sample);
-  const Case c = run_case(std::move(prepared), solver, options, output, provenance, run.fields);
+  const Case c =
+      run_case(std::move(prepared), solver, options, output, provenance, run.fields, true);
   // Degradations (docs/model/fracture.md, "Warnings"): "code:count", the
   // calibration's prefixed; an empty list for a sound run.
   std::vector<std::string> warnings = warning_words(calibration_warnings, "calibration_");
@@ -385,6 +400,26 @@ void run_fracture_job(MPI_Comm comm, const SampleOptions& sample,
   folder.commit(summary, warnings);
   folder.install();
 }
+
+namespace {
+std::vector<FractureOutputEntry>& output_registry() {
+  static std::vector<FractureOutputEntry> entries;
+  return entries;
+}
+}  // namespace
+
+void register_fracture_output(FractureOutputEntry entry) {
+  if (entry.file.empty() || entry.file.find('/') != std::string::npos || !entry.write)
+    throw std::invalid_argument("a registered output needs a file name without '/' and a writer");
+  if (fracture_layout().owns(entry.file))
+    throw std::invalid_argument("output '" + entry.file + "' is a file lem_fracture writes");
+  for (const FractureOutputEntry& e : output_registry())
+    if (e.file == entry.file)
+      throw std::invalid_argument("output '" + entry.file + "' is registered twice");
+  output_registry().push_back(std::move(entry));
+}
+
+const std::vector<FractureOutputEntry>& fracture_outputs() { return output_registry(); }
 
 int fracture_program(int argc, char** argv, const char* help) {
   return run_driver(argc, argv, help, [](MPI_Comm comm) {

@@ -5,7 +5,8 @@
 #                   of stepping through every increment, and the same curve
 #   ranks           1 rank and 2 ranks break the same bonds in the same order
 #   restart_kill    kill -9 after a checkpoint; the rerun resumes and its curve
-#                   and log equal those of an uninterrupted run, byte for byte
+#                   and log equal those of an uninterrupted run, byte for byte,
+#                   and its summary the relaxation scheme's counts
 #   restart_signal  SIGUSR1 writes a checkpoint and exits 4; the rerun resumes
 #   bad_checkpoint  a checkpoint of other options or a corrupt file is
 #                   refused with a named error
@@ -146,6 +147,13 @@ restart_kill|restart_signal)
   diff <(cut -d, -f1-21 "$work/whole/curve.csv") <(cut -d, -f1-21 "$work/cut/curve.csv") > /dev/null ||
     fail "resumed curve differs from the uninterrupted one"
   cmp -s "$work/whole/broken.csv" "$work/cut/broken.csv" || fail "resumed broken-bond log differs"
+  # The relaxation scheme's own counts, carried by the checkpoint.
+  patch_counts() { grep -o '"patch_[a-z_]*": [^,]*' "$1/summary.json"; }
+  [ "$(patch_counts "$work/whole")" = "$(patch_counts "$work/cut")" ] ||
+    fail "the scheme's counts differ after the restart: $(patch_counts "$work/cut" | tr '\n' ' ')"
+  if [[ " ${case_args[*]} " == *" -fracture_relaxation local "* ]]; then
+    grep -q '"patch_solves": [1-9]' "$work/cut/summary.json" || fail "the local scheme solved no patch"
+  fi
   echo "ok: $(grep '^resumed' "$work/cut/log"); curve and log identical to the uninterrupted run"
   ;;
 bad_checkpoint)

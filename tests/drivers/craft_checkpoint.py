@@ -61,6 +61,9 @@ def parse(data):
     n = u64()
     c["fingerprint"] = data[pos:pos + n]
     pos += n
+    n = u64()
+    c["relaxation_state"] = data[pos:pos + n]
+    pos += n
     for name in VECTORS:
         n = u64()
         c[name] = list(struct.unpack_from("<%dq" % n, data, pos))
@@ -80,6 +83,7 @@ def parse(data):
 def build(c):
     body = struct.pack("<Q", len(c["state"])) + c["state"]
     body += struct.pack("<Q", len(c["fingerprint"])) + c["fingerprint"]
+    body += struct.pack("<Q", len(c["relaxation_state"])) + c["relaxation_state"]
     for name in VECTORS:
         body += struct.pack("<Q%dq" % len(c[name]), len(c[name]), *c[name])
     body += struct.pack("<QQ", len(c["displacement"]), len(c["check_displacement"]))

@@ -2,7 +2,8 @@
 # The example extensions (extended_fracture.cpp) compile, are listed by
 # -help, and run: the break rule breaks one bond per relaxation cycle, the
 # smallest-threshold critical one; the relaxation scheme, which delegates to
-# the global one, breaks the same bonds in the same order as lem_fracture.
+# the global one, breaks the same bonds in the same order as lem_fracture;
+# the output is committed with each result and counts every broken bond.
 # Usage: check_extensions.sh EXTENDED LEM_FRACTURE WORKDIR
 set -u
 extended="$1"; reference="$2"; work="$3"
@@ -32,3 +33,15 @@ grep -q "^counted_global: [1-9][0-9]* load steps relaxed" "$work/counted.log" ||
 cmp -s "$work/counted/broken.csv" "$work/global/broken.csv" ||
   fail "counted_global broke other bonds than the global scheme"
 echo "ok: counted_global: $(grep -o '[0-9]* load steps relaxed' "$work/counted.log"), the same ruptures as the global scheme"
+
+# The output: in the manifest of each result of the extended program, its
+# slabs summing to the ruptures plus the bonds of loose pieces; not in
+# lem_fracture's.
+profile="$work/counted/damage_profile.csv"
+grep -q "^file=damage_profile.csv " "$work/counted/manifest.txt" || fail "damage_profile.csv is not committed"
+in_slabs=$(tail -n +2 "$profile" | awk -F, '{ s += $3 } END { print s + 0 }')
+expected=$(/usr/bin/python3 -c "import json, sys; s = json.load(open(sys.argv[1])); print(s['broken'] + s['detached_bonds'])" "$work/counted/summary.json")
+[ "$in_slabs" -eq "$expected" ] || fail "damage_profile.csv counts $in_slabs broken bonds, the summary $expected"
+[ "$(tail -n +2 "$profile" | wc -l)" -eq 10 ] || fail "damage_profile.csv has not 10 slabs"
+[ ! -e "$work/global/damage_profile.csv" ] || fail "lem_fracture wrote the extension's output"
+echo "ok: damage_profile.csv committed, $in_slabs broken bonds in its slabs as in the summary"

@@ -1,11 +1,17 @@
-// lem_fracture with one break rule and one relaxation scheme added from
-// outside the library, as docs/developer/extending.md walks through: each is
-// a class and one registration before the options are read.
+// lem_fracture with a break rule, a relaxation scheme and an output added
+// from outside the library, as docs/developer/extending.md walks through:
+// each is a class or a function and one registration before the options
+// are read.
+#include "lem/error.hpp"
+#include "lem/files.hpp"
 #include "lem/fracture_run.hpp"
 #include "lem/log.hpp"
 #include "lem/protocol/registry.hpp"
 
 #include <algorithm>
+#include <array>
+#include <limits>
+#include <string>
 
 namespace {
 
@@ -41,6 +47,36 @@ class CountedGlobal final : public lem::GlobalRelaxation {
   long long steps_ = 0;
 };
 
+// Output: broken bonds (ruptures and bonds of loose pieces: stiffness 0) in
+// ten slabs of equal height, by the bond's midpoint; each rank counts the
+// bonds it reports, rank 0 writes the sums.
+void write_damage_profile(const lem::DistributedLattice& l, const lem::FractureResult&,
+                          const std::string& path) {
+  constexpr int kSlabs = 10;
+  double z_range[2] = {std::numeric_limits<double>::max(), std::numeric_limits<double>::max()};
+  for (const lem::Point& x : l.coords) {
+    z_range[0] = std::min(z_range[0], x[2]);
+    z_range[1] = std::min(z_range[1], -x[2]);
+  }
+  MPI_Allreduce(MPI_IN_PLACE, z_range, 2, MPI_DOUBLE, MPI_MIN, l.comm);
+  const double bottom = z_range[0], height = -z_range[1] - z_range[0];
+  std::array<long long, kSlabs> broken{};
+  for (int b = 0; b < l.local_bonds(); ++b) {
+    if (!l.bond_reported[b] || l.bond_stiffness[b] != 0) continue;
+    const double z = 0.5 * (l.coords[l.bond_ends[b][0]][2] + l.coords[l.bond_ends[b][1]][2]);
+    broken[std::clamp(static_cast<int>((z - bottom) / height * kSlabs), 0, kSlabs - 1)] += 1;
+  }
+  MPI_Allreduce(MPI_IN_PLACE, broken.data(), kSlabs, MPI_LONG_LONG, MPI_SUM, l.comm);
+  lem::run_on_root(l.comm, [&] {
+    std::string text = "z_low,z_high,broken\n";
+    for (int k = 0; k < kSlabs; ++k)
+      text += std::to_string(bottom + height * k / kSlabs) + "," +
+              std::to_string(bottom + height * (k + 1) / kSlabs) + "," +
+              std::to_string(broken[k]) + "\n";
+    lem::write_text_file_atomically(path, text);
+  });
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -51,5 +87,6 @@ int main(int argc, char** argv) {
        [](const lem::RelaxationParts& parts) -> std::unique_ptr<lem::Relaxation> {
          return std::make_unique<CountedGlobal>(parts);
        }});
+  lem::register_fracture_output({"damage_profile.csv", write_damage_profile});
   return lem::fracture_program(argc, argv, "lem_fracture with example extensions\n");
 }

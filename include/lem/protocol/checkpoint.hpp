@@ -27,6 +27,7 @@ namespace lem {
 struct Checkpoint {
   FractureState state;
   std::string fingerprint;
+  std::string relaxation_state;  // the scheme's own (Relaxation::saved_state)
   DamageHistory damage;
   // This rank's nodes (the `ids` of the file functions), 3 values each.
   std::vector<double> displacement;
@@ -79,8 +80,8 @@ class CheckpointStore {
   /// naming what differs.  Says so when the rank count changed.
   Checkpoint load() const;
   /// Remember the state at this equilibrium (owned displacements).
-  void hold(const FractureState& state, const DamageMark& damage, std::vector<double> owned_u,
-            std::vector<double> owned_check);
+  void hold(const FractureState& state, std::string relaxation_state, const DamageMark& damage,
+            std::vector<double> owned_u, std::vector<double> owned_check);
   /// Write the held state.
   void save(const DamageLedger& ledger) const;
   const FractureState& held_state() const { return held_.state; }
@@ -93,6 +94,7 @@ class CheckpointStore {
   std::string path_, fingerprint_;
   struct Held {
     FractureState state;
+    std::string relaxation_state;
     DamageMark damage;
     std::vector<double> u, check;  // owned values (check: empty at an equilibrium)
   } held_;

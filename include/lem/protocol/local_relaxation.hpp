@@ -36,8 +36,24 @@ class LocalRelaxation : public Relaxation {
   explicit LocalRelaxation(const RelaxationParts& parts);
   RelaxationOutcome relax(std::int64_t step, double top_displacement, double strain,
                           double stress_before) override;
+  std::string saved_state() const override;
+  void restore_state(const std::string& bytes) override;
+  /// patch_solves, patch_iterations, patch_nodes_mean, patch_overflows,
+  /// patch_error_max, patch_disabled_step.
+  std::vector<std::pair<std::string, double>> report() const override;
 
  private:
+  /// What the scheme counts (its checkpoint state): patch solves, their CG
+  /// iterations and total free nodes, patches too large that went global,
+  /// the largest force error of a patch field against the global field that
+  /// confirmed it (relative to max(f, mean threshold)), and the step at
+  /// which patches were given up (0: never).
+  struct Counters {
+    std::int64_t solves = 0, iterations = 0, nodes = 0, overflows = 0;
+    double error_max = 0;
+    std::int64_t disabled_step = 0;
+  } counters_;
+
   /// Owned nodes within the patch radius of the ruptures' midpoints.
   std::vector<int> patch_nodes(const std::vector<Rupture>& ruptures) const;
   /// Bonds whose force in the current (patch) field exceeds the certified

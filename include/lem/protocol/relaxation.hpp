@@ -19,6 +19,9 @@
 
 #include <cstdint>
 #include <functional>
+#include <string>
+#include <utility>
+#include <vector>
 
 namespace lem {
 
@@ -67,6 +70,16 @@ class Relaxation {
   /// says it is kept.  Collective.
   virtual RelaxationOutcome relax(std::int64_t step, double top_displacement, double strain,
                                   double stress_before) = 0;
+  /// What the scheme must carry over a checkpoint besides the protocol's
+  /// state (its counters), as bytes: taken at every held equilibrium,
+  /// given back on resume.  A scheme with nothing to carry keeps the
+  /// defaults; restore_state then refuses a non-empty state.
+  virtual std::string saved_state() const { return {}; }
+  /// Throws std::runtime_error when `bytes` are not a state of this scheme.
+  virtual void restore_state(const std::string& bytes);
+  /// Named numbers of the scheme for the summary (the local scheme's patch_*
+  /// entries); empty by default.
+  virtual std::vector<std::pair<std::string, double>> report() const { return {}; }
 
  protected:
   /// Break `batch` as one numbered batch (generation `cycle` of this load

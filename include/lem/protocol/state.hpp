@@ -25,13 +25,6 @@ struct FractureTally {
   std::int64_t early_stops = 0;    // relaxation solves ended once the batch was decided
   std::int64_t decided_steps = 0;  // load steps that ended on a decided field (no equilibrium)
   std::int64_t tie_solves = 0;     // re-solves to -fracture_tie_rtol for bonds in doubt
-  // Local relaxation: patch solves, their CG iterations and total free
-  // nodes, patches too large that went global, and the largest force error
-  // of a patch field against the global field that confirmed it (relative
-  // to max(f, mean threshold)).
-  std::int64_t patch_solves = 0, patch_iterations = 0, patch_nodes = 0, patch_overflows = 0;
-  double patch_error_max = 0;
-  std::int64_t patch_disabled_step = 0;  // step at which patches were given up (0: never)
   std::array<std::int64_t, kPhaseCount> broken{};  // per phase
   std::int64_t detached_bonds = 0, pinned_nodes = 0;
   std::int64_t pieces = 1;         // connected pieces of unpinned nodes

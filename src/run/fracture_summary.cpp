@@ -1,0 +1,72 @@
+#include "lem/fracture_summary.hpp"
+
+namespace lem {
+
+const std::vector<SummaryField>& fracture_summary_fields() {
+  static const std::vector<SummaryField> fields = {
+      {"sample_file", "", "the sample file (empty for a generated lattice)"},
+      {"nodes", "", "nodes of the lattice"},
+      {"active_bonds", "", "bonds in the system (void bonds of sample files excluded)"},
+      {"increment_over_a", "", "load increment per step over the mean bond length a"},
+      {"break_rule", "", "`-fracture_break_rule`"},
+      {"sigma_unit", "stress", "the stress unit of the curve: `-fracture_sigma_unit` if given, "
+                               "else σ^[p] if calibrated, else σ^p (sample files) or 1"},
+      {"E_unit", "stress", "the modulus unit: `-fracture_modulus_unit` if given, else E^[p] if "
+                           "calibrated, else E^p (sample files) or 1"},
+      {"sigma_hom", "stress", "σ^[p] of the calibration (0 without one)"},
+      {"E_hom", "stress", "E^[p] of the calibration (0 without one)"},
+      {"E_eff", "stress", "effective modulus: σ/ε of the first equilibrium"},
+      {"E_eff_over_E_unit", "", "E_eff / E_unit"},
+      {"sigma_eff", "stress", "tensile strength: the peak stress"},
+      {"sigma_eff_over_sigma_unit", "", "sigma_eff / sigma_unit"},
+      {"strain_at_peak", "", "strain ε_zz at the peak"},
+      {"peak_step", "", "load step of the peak"},
+      {"final_strain", "", "strain where the run ended"},
+      {"final_stress_over_sigma_unit", "", "stress where the run ended / sigma_unit"},
+      {"broken", "", "broken bonds, all phases"},
+      {"broken_p", "", "broken particle bonds"},
+      {"broken_m", "", "broken matrix bonds"},
+      {"broken_pp", "", "broken particle–particle contacts"},
+      {"broken_pm", "", "broken particle–matrix interface bonds"},
+      {"n_b", "", "particle damage: broken p bonds / broken bonds"},
+      {"detached_bonds", "", "bonds of loose pieces, taken out (not ruptures)"},
+      {"pinned_nodes", "", "nodes of loose pieces, pinned"},
+      {"steps", "", "last load step"},
+      {"visited_steps", "", "load steps evaluated (rows of `curve.csv`)"},
+      {"rupture_steps", "", "load steps with ruptures"},
+      {"relaxation_cycles", "", "relaxation cycles (batches of ruptures)"},
+      {"solves", "", "linear solves"},
+      {"early_stops", "", "relaxation solves ended once the batch was decided"},
+      {"decided_steps", "", "load steps that ended on a decided field"},
+      {"tie_solves", "", "near-tie re-solves to `-fracture_tie_rtol`"},
+      {"ksp_iterations", "", "CG iterations"},
+      {"pc_builds", "", "preconditioner builds"},
+      {"fallback_solves", "", "solves finished by the fallback solver (Jacobi-CG)"},
+      {"relaxation", "", "`-fracture_relaxation`"},
+      {"patch_solves", "", "local scheme: patch solves (0 with `global`)"},
+      {"patch_iterations", "", "local scheme: CG iterations of the patch solves"},
+      {"patch_nodes_mean", "", "local scheme: mean free nodes of a patch"},
+      {"patch_overflows", "", "local scheme: patches too large, solved globally"},
+      {"patch_error_max", "", "local scheme: largest patch force error against the confirming "
+                              "global field, of max(f, mean f)"},
+      {"patch_disabled_step", "", "local scheme: step at which patches were given up (0: never)"},
+      {"solves_stepping_estimate", "", "steps + relaxation cycles: the solves of a run without "
+                                       "idle skipping"},
+      {"work", "lattice", "external work W at the end (lattice units k a²)"},
+      {"stored_energy", "lattice", "stored elastic energy E at the end"},
+      {"released_energy", "lattice", "energy R released by ruptures"},
+      {"energy_balance_error", "", "\\|W − E − R\\| / W"},
+      {"end_reason", "", "why the run ended ([fracture](../model/fracture.md), \"Loose pieces "
+                         "and the end of a run\")"},
+      {"warnings", "", "`code:count` words, `calibration_` prefixed for the calibration's; "
+                       "`[]` for a sound run ([fracture](../model/fracture.md), \"Warnings\")"},
+      {"resumed", "", "1 if the run resumed from a checkpoint"},
+      {"seconds", "s", "wall time (of the last part for a resumed run)"},
+      {"peak_memory_mb", "MB", "the largest peak resident memory of a rank (of the last part)"},
+      {"peak_memory_mean_mb", "MB", "the mean over the ranks of their peak resident memory"},
+      {"mpi_ranks", "", "MPI ranks"},
+  };
+  return fields;
+}
+
+}  // namespace lem
