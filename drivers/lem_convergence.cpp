@@ -60,7 +60,7 @@ int main(int argc, char** argv) {
     if (sample.lattice_type != lem::LatticeType::random)
       throw lem::InputError("lem_convergence needs -lattice_type random");
     const auto provenance = lem::collect_provenance(comm, "lem_convergence");
-    request.fingerprint = lem::options_fingerprint(comm, {});
+    request.fingerprint = lem::options_fingerprint(comm);
     const lem::ResultFolder folder(comm, lem::convergence_layout(), request);
     if (!folder.begin()) return;
     const std::string& dir = folder.work_dir();

@@ -54,7 +54,7 @@ int main(int argc, char** argv) {
                             " is out of range: allowed 1 to -pack_particles = " +
                             std::to_string(spec.count));
     const auto provenance = lem::collect_provenance(comm, "lem_pack");
-    request.fingerprint = lem::options_fingerprint(comm, {});
+    request.fingerprint = lem::options_fingerprint(comm);
     const lem::ResultFolder folder(comm, lem::packing_layout(), request);
     if (!folder.begin()) return;
     const std::string& dir = folder.work_dir();

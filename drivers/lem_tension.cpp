@@ -36,7 +36,8 @@ int main(int argc, char** argv) {
     lem::SetupReport setup;
     auto lattice = lem::setup_sample_lattice(comm, sample, setup);
     // Only once the sample is read and checked: bad input keeps older results.
-    request.fingerprint = lem::options_fingerprint(comm, {sample.sample_file});
+    request.fingerprint = lem::options_fingerprint(
+        comm, "sample_checksum=" + std::to_string(lem::sample_checksum(lattice)) + "\n");
     const lem::ResultFolder folder(comm, lem::tension_layout(), request);
     if (!folder.begin()) return;
     const std::string& dir = folder.work_dir();

@@ -68,11 +68,12 @@ const ResultLayout& packing_layout();
 /// The fingerprint of a run that is its options: every option the program
 /// read, as "name=value" (given or default), but those that only say where
 /// and how results are written (-output_*), and PETSc's solver options
-/// (they change results within the solver's tolerance only); and the
-/// checksum of each input file ("" names none).  Call it once every option
+/// (they change results within the solver's tolerance only); then `inputs`,
+/// lines that identify the input beyond its name (e.g. "sample_checksum=",
+/// sample_checksum in distributed_lattice.hpp).  Call it once every option
 /// is read.  Collective; the text is made on rank 0 (the folder's work is
 /// done there), "" elsewhere.
-std::string options_fingerprint(MPI_Comm comm, const std::vector<std::string>& input_files);
+std::string options_fingerprint(MPI_Comm comm, const std::string& inputs = "");
 
 /// A result folder opened by a run.  Collective: every method is called on
 /// every rank; rank 0 does the file work and every rank gets its answers.

@@ -426,18 +426,9 @@ Checkpoint read_checkpoint_file(MPI_Comm comm, const std::string& path,
 }
 
 std::string fracture_fingerprint(const DistributedLattice& l, const FractureOptions& o) {
-  // The intact sample (ids, stiffnesses, thresholds after disorder), hashed
-  // in an order-free way, and every option that changes the results.
-  std::uint64_t sum = 0;
-  for (int b = 0; b < l.local_bonds(); ++b) {
-    if (!l.bond_reported[b]) continue;
-    std::uint64_t k = 0, f = 0;
-    std::memcpy(&k, &l.bond_stiffness[b], 8);
-    if (!l.bond_strength.empty()) std::memcpy(&f, &l.bond_strength[b], 8);
-    sum += mix64(static_cast<std::uint64_t>(l.bond_id[b]) ^ mix64(k ^ mix64(f)));
-  }
-  std::uint64_t total = 0;
-  MPI_Allreduce(&sum, &total, 1, MPI_UINT64_T, MPI_SUM, l.comm);
+  // The intact sample (ids, stiffnesses, thresholds after disorder) and
+  // every option that changes the results.
+  const std::uint64_t total = sample_checksum(l);
   int ranks = 1;
   MPI_Comm_size(l.comm, &ranks);
   std::ostringstream s;

@@ -114,15 +114,14 @@ const ResultLayout& packing_layout() {
   return layout;
 }
 
-std::string options_fingerprint(MPI_Comm comm, const std::vector<std::string>& input_files) {
+std::string options_fingerprint(MPI_Comm comm, const std::string& inputs) {
   std::string text;
   run_on_root(comm, [&] {
     for (const OptionRecord& r : registered_options()) {
       if (r.petsc_default || r.name.rfind("-output_", 0) == 0) continue;
       text += r.name.substr(1) + "=" + (r.given ? r.value : r.default_value) + "\n";
     }
-    for (const auto& file : input_files)
-      if (!file.empty()) text += "input " + file + "=" + file_checksum(file) + "\n";
+    text += inputs;
   });
   return text;
 }

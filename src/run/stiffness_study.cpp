@@ -86,7 +86,7 @@ void run_stiffness_study(MPI_Comm comm, StiffnessStudy study, const SolverOption
   check_unused_options();
   // Only once the sample and the solver options proved good: bad input
   // keeps older results.
-  request.fingerprint = options_fingerprint(comm, {});
+  request.fingerprint = options_fingerprint(comm);
   const ResultFolder folder(comm, stiffness_layout(), request);
   if (!folder.begin()) return;
   const std::string& dir = folder.work_dir();
