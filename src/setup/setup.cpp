@@ -39,10 +39,12 @@ void check_petsc_indices(std::int64_t nodes) {
                      "with 64-bit indices");
 }
 
-// What a run needs per bond of its lattice, over all its ranks (the solver,
-// its multigrid, the fracture's state: 3.6 GB per rank for 1e7 bonds on 2
-// ranks, measured 2026-11-22, set-up included), and what the serial set-up
-// holds on rank 0 on top of that while it builds and scatters the lattice.
+// What a run needs per bond of its lattice at least, over all its ranks,
+// and what the serial set-up holds on rank 0 on top of that while it builds
+// and scatters the lattice.  A floor, so that what is refused surely would
+// not fit: measured on 2 ranks (docs/scaling.md, docs/benchmarks.md), one
+// elastic solve takes 630 bytes per bond at 10^7 bonds and 800 at 3*10^7
+// (the largest that fits this machine's 24 GB), a fracture run 960 at 10^7.
 constexpr double kRunBytesPerBond = 400;
 constexpr double kSerialSetupBytesPerBond = 150;
 
