@@ -108,7 +108,7 @@ def test_anchor_rule():
 
 # Options the user pages name on purpose although no program reads them.
 NOT_OPTIONS = {"-lattice_node"}  # the typo of the unknown-option example
-PETSC_OPTION = re.compile(r"-(ksp|pc|mg|mat|log|fallback|vec|options|patch_ksp|patch_pc|"
+PETSC_OPTION = re.compile(r"-(ksp|pc|mg|mat|log|memory|fallback|vec|options|patch_ksp|patch_pc|"
                           r"deflation_coarse)_")
 
 
