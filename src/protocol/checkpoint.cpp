@@ -440,7 +440,7 @@ std::string fracture_fingerprint(const DistributedLattice& l, const FractureOpti
     << "\npc_rebuild_growth=" << o.rebuild_iteration_growth
     << "\nrelaxation=" << o.relaxation;
   const RelaxationEntry& scheme = relaxation_named(o.relaxation);
-  if (scheme.fingerprint) s << "\n" << scheme.fingerprint(o);
+  if (scheme.fingerprint) s << "\n" << scheme.fingerprint();
   if (o.decision_safety > 0)
     s << "\ndecision_safety=" << o.decision_safety
       << "\ndecision_interval=" << o.decision_interval

@@ -1,5 +1,7 @@
 #include "lem/protocol/local_relaxation.hpp"
 
+#include "lem/protocol/registry.hpp"
+
 #include "lem/log.hpp"
 #include "lem/error.hpp"
 #include "lem/tension.hpp"
@@ -7,15 +9,56 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <memory>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
 
 namespace lem {
 
-LocalRelaxation::LocalRelaxation(const RelaxationParts& parts)
+RelaxationEntry local_relaxation_entry() {
+  // One set of options, read with the protocol's, shared by the factory and
+  // the fingerprint.
+  auto options = std::make_shared<LocalRelaxationOptions>();
+  RelaxationEntry e;
+  e.name = "local";
+  e.help = "(experimental) relax patches around the new ruptures first, break the bonds they "
+           "certify, and solve globally to confirm";
+  e.make = [options](const RelaxationParts& parts) -> std::unique_ptr<Relaxation> {
+    return std::make_unique<LocalRelaxation>(parts, *options);
+  };
+  e.read_options = [options](OptionGroup& g) {
+    LocalRelaxationOptions& o = *options;
+    o.radius = g.real("-fracture_patch_radius", "local: a patch holds the nodes within this "
+                      "many mean bond lengths a of the ruptures since the last global "
+                      "equilibrium", o.radius, 1.0, 100.0);
+    o.margin = g.real("-fracture_patch_margin", "local: a patch field breaks a bond only when "
+                      "its force exceeds (1 + margin) times its threshold (margin: a bound on "
+                      "the patch error); nearer bonds wait for the global solve",
+                      o.margin, 0.0, 10.0, true);
+    o.max_fraction = g.real("-fracture_patch_max_fraction", "local: a patch with more than "
+                            "this fraction of the free nodes is solved globally",
+                            o.max_fraction, 0.0, 1.0, true);
+    o.rtol = g.real("-fracture_patch_rtol", "local: relative tolerance of the patch solves "
+                    "(CG, options prefix -patch_)", o.rtol, 0.0, 0.1, true);
+  };
+  e.fingerprint = [options] {
+    std::ostringstream s;
+    s.precision(17);
+    s << "patch_radius=" << options->radius << "\npatch_margin=" << options->margin
+      << "\npatch_max_fraction=" << options->max_fraction << "\npatch_rtol=" << options->rtol
+      << "\n";
+    return s.str();
+  };
+  return e;
+}
+
+LocalRelaxation::LocalRelaxation(const RelaxationParts& parts,
+                                 const LocalRelaxationOptions& options)
     : Relaxation(parts),
-      radius_(parts.options.patch_radius * parts.lattice.mean_bond_length),
+      o_(options),
+      radius_(options.radius * parts.lattice.mean_bond_length),
       grid_(parts.lattice.box, radius_),
       cells_(grid_.cell_count()) {
   const DistributedLattice& l = p_.lattice;
@@ -27,7 +70,7 @@ LocalRelaxation::LocalRelaxation(const RelaxationParts& parts)
   MPI_Allreduce(&free, &free_nodes_, 1, MPI_INT64_T, MPI_SUM, l.comm);
   // Read the -patch_ options now: a misspelt one is then reported after the
   // first solve, not ignored until the first patch.
-  KSP ksp = create_patch_solver(l.comm, p_.options.patch_rtol);
+  KSP ksp = create_patch_solver(l.comm, o_.rtol);
   LEM_PETSC(KSPDestroy(&ksp));
 }
 
@@ -55,7 +98,7 @@ std::vector<int> LocalRelaxation::patch_nodes(const std::vector<Rupture>& ruptur
 std::vector<Rupture> LocalRelaxation::certain(const std::vector<Rupture>& critical) const {
   // A zero threshold (bare contact) needs a tension clearly above the
   // patch error too: margin times the mean threshold.
-  const double margin = p_.options.patch_margin;
+  const double margin = o_.margin;
   std::vector<Rupture> sure;
   for (const Rupture& x : critical)
     if (x.force > (1 + margin) * x.threshold && x.force > margin * p_.critical.mean_threshold())
@@ -81,17 +124,16 @@ bool LocalRelaxation::local_phase(std::int64_t step, double strain, std::vector<
   // Patches around every batch since the last global solve (so the last
   // one is as accurate as a single patch around all of them), as long as
   // they certify ruptures.
-  const FractureOptions& o = p_.options;
   std::vector<Rupture> phase = batch;
   for (;;) {
     const std::vector<int> nodes = patch_nodes(phase);
     std::int64_t size = static_cast<std::int64_t>(nodes.size()), total = 0;
     MPI_Allreduce(&size, &total, 1, MPI_INT64_T, MPI_SUM, p_.lattice.comm);
-    if (static_cast<double>(total) > o.patch_max_fraction * static_cast<double>(free_nodes_)) {
+    if (static_cast<double>(total) > o_.max_fraction * static_cast<double>(free_nodes_)) {
       counters_.overflows += 1;
       return true;
     }
-    const SolveReport r = p_.system.relax_patch(nodes, o.patch_rtol);
+    const SolveReport r = p_.system.relax_patch(nodes, o_.rtol);
     counters_.solves += 1;
     counters_.iterations += r.iterations;
     counters_.nodes += total;
@@ -113,13 +155,13 @@ void LocalRelaxation::check_patch_error(std::int64_t step,
                                         const std::vector<double>& patch_tensions) {
   const double e = patch_error(patch_tensions, p_.system.bond_tensions());
   counters_.error_max = std::max(counters_.error_max, e);
-  if (e > p_.options.patch_margin && counters_.disabled_step == 0) {
+  if (e > o_.margin && counters_.disabled_step == 0) {
     // The margin did not bound the patch error: decisions of this phase
     // may differ from the reference's; take none on patches again.
     counters_.disabled_step = step;
     say("step %lld: a patch field erred by %.3g of a threshold, above -fracture_patch_margin "
         "%.3g; the rest of the run relaxes globally\n",
-        static_cast<long long>(step), e, p_.options.patch_margin);
+        static_cast<long long>(step), e, o_.margin);
   }
 }
 

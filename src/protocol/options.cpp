@@ -81,19 +81,8 @@ FractureOptions read_fracture_options(MPI_Comm comm) {
     OptionGroup g(comm, "Relaxation after ruptures (docs/model/fracture.md)");
     o.relaxation = read_registered(g, "-fracture_relaxation", "How a load step is relaxed "
                                    "after ruptures", relaxation_schemes(), o.relaxation);
-    o.patch_radius = g.real("-fracture_patch_radius", "local: a patch holds the nodes within "
-                            "this many mean bond lengths a of the ruptures since the last "
-                            "global equilibrium",
-                            o.patch_radius, 1.0, 100.0);
-    o.patch_margin = g.real("-fracture_patch_margin", "local: a patch field breaks a bond only "
-                            "when its force exceeds (1 + margin) times its threshold (margin: "
-                            "a bound on the patch error); nearer bonds wait for the global solve",
-                            o.patch_margin, 0.0, 10.0, true);
-    o.patch_max_fraction = g.real("-fracture_patch_max_fraction", "local: a patch with more "
-                                  "than this fraction of the free nodes is solved globally",
-                                  o.patch_max_fraction, 0.0, 1.0, true);
-    o.patch_rtol = g.real("-fracture_patch_rtol", "local: relative tolerance of the patch "
-                          "solves (CG, options prefix -patch_)", o.patch_rtol, 0.0, 0.1, true);
+    for (const RelaxationEntry& scheme : relaxation_schemes())
+      if (scheme.read_options) scheme.read_options(g);
     o.decision_safety = g.real(
         "-fracture_decision_safety", "End a relaxation solve (CG) before -ksp_rtol as soon as "
         "it decides the next batch: one bond force is above its threshold and every one is "

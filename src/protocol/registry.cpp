@@ -3,7 +3,6 @@
 #include "lem/protocol/local_relaxation.hpp"
 
 #include <algorithm>
-#include <sstream>
 #include <stdexcept>
 
 namespace lem {
@@ -25,19 +24,7 @@ std::vector<RelaxationEntry>& scheme_table() {
        [](const RelaxationParts& parts) -> std::unique_ptr<Relaxation> {
          return std::make_unique<GlobalRelaxation>(parts);
        }},
-      {"local", "(experimental) relax patches around the new ruptures first, break the bonds "
-                "they certify, and solve globally to confirm",
-       [](const RelaxationParts& parts) -> std::unique_ptr<Relaxation> {
-         return std::make_unique<LocalRelaxation>(parts);
-       },
-       [](const FractureOptions& o) {
-         std::ostringstream s;
-         s.precision(17);
-         s << "patch_radius=" << o.patch_radius << "\npatch_margin=" << o.patch_margin
-           << "\npatch_max_fraction=" << o.patch_max_fraction << "\npatch_rtol=" << o.patch_rtol
-           << "\n";
-         return s.str();
-       }}};
+      local_relaxation_entry()};
   return table;
 }
 

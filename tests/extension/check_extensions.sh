@@ -13,7 +13,8 @@ args=(-lattice_bonds 6000 -lattice_seed 3 -strength_disorder uniform -strength_d
       -fracture_stop_fraction 0.3 -output_fields false)
 "$extended" -help > "$work/help.log" 2>&1
 grep -q "(all|most_critical|weakest_first)" "$work/help.log" &&
-  grep -q "(global|local|counted_global)" "$work/help.log" || fail "-help does not list them"
+  grep -q "(global|local|counted_global)" "$work/help.log" &&
+  grep -q -- "-fracture_counted_label" "$work/help.log" || fail "-help does not list them"
 
 "$extended" "${args[@]}" -fracture_break_rule weakest_first -output_dir "$work/weakest" \
   > "$work/weakest.log" 2>&1 || fail "weakest_first: $(tail -3 "$work/weakest.log")"
@@ -28,6 +29,13 @@ echo "ok: weakest_first: $broken bonds, one per relaxation cycle"
   > "$work/counted.log" 2>&1 || fail "counted_global: $(tail -3 "$work/counted.log")"
 grep -q "^counted_global: [1-9][0-9]* load steps relaxed" "$work/counted.log" ||
   fail "counted_global did not relax: $(tail -3 "$work/counted.log")"
+# The scheme's own option, read with the protocol's; a misspelt one is refused.
+"$extended" "${args[@]}" -fracture_relaxation counted_global -fracture_counted_label tally \
+  -output_dir "$work/labelled" > "$work/labelled.log" 2>&1 || fail "labelled: $(tail -3 "$work/labelled.log")"
+grep -q "^tally: [1-9][0-9]* load steps relaxed" "$work/labelled.log" || fail "-fracture_counted_label was not read"
+"$extended" "${args[@]}" -fracture_counted_lable x -output_dir "$work/typo" > "$work/typo.log" 2>&1 &&
+  fail "a misspelt option of the scheme was accepted"
+grep -q "fracture_counted_lable" "$work/typo.log" || fail "the misspelt option is not named"
 "$reference" "${args[@]}" -output_dir "$work/global" > "$work/global.log" 2>&1 ||
   fail "lem_fracture: $(tail -3 "$work/global.log")"
 cmp -s "$work/counted/broken.csv" "$work/global/broken.csv" ||

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <array>
 #include <limits>
+#include <memory>
 #include <string>
 
 namespace {
@@ -32,11 +33,13 @@ class WeakestFirst final : public lem::BreakRule {
   bool set_decides_batch() const override { return true; }
 };
 
-// Relaxation scheme: the global one, counting the load steps it relaxed.
+// Relaxation scheme: the global one, counting the load steps it relaxed,
+// with an option of its own (the word its report starts with).
 class CountedGlobal final : public lem::GlobalRelaxation {
  public:
-  using GlobalRelaxation::GlobalRelaxation;
-  ~CountedGlobal() override { lem::say("counted_global: %lld load steps relaxed\n", steps_); }
+  CountedGlobal(const lem::RelaxationParts& parts, std::string label)
+      : GlobalRelaxation(parts), label_(std::move(label)) {}
+  ~CountedGlobal() override { lem::say("%s: %lld load steps relaxed\n", label_.c_str(), steps_); }
   lem::RelaxationOutcome relax(std::int64_t step, double top_displacement, double strain,
                                double stress_before) override {
     ++steps_;
@@ -44,6 +47,7 @@ class CountedGlobal final : public lem::GlobalRelaxation {
   }
 
  private:
+  std::string label_;
   long long steps_ = 0;
 };
 
@@ -82,10 +86,16 @@ void write_damage_profile(const lem::DistributedLattice& l, const lem::FractureR
 int main(int argc, char** argv) {
   lem::register_break_rule({"weakest_first", "the critical bond of smallest threshold",
                             [] { return std::make_unique<WeakestFirst>(); }});
+  // The scheme's option lives beside its factory, which reads it.
+  auto label = std::make_shared<std::string>();
   lem::register_relaxation(
       {"counted_global", "the global scheme, counting the load steps it relaxes",
-       [](const lem::RelaxationParts& parts) -> std::unique_ptr<lem::Relaxation> {
-         return std::make_unique<CountedGlobal>(parts);
+       [label](const lem::RelaxationParts& parts) -> std::unique_ptr<lem::Relaxation> {
+         return std::make_unique<CountedGlobal>(parts, *label);
+       },
+       [label](lem::OptionGroup& g) {
+         *label = g.string("-fracture_counted_label", "counted_global: the first word of its "
+                           "report", "counted_global");
        }});
   lem::register_fracture_output({"damage_profile.csv", write_damage_profile});
   return lem::fracture_program(argc, argv, "lem_fracture with example extensions\n");

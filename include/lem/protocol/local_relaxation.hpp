@@ -30,10 +30,24 @@
 
 namespace lem {
 
+struct RelaxationEntry;
+
+/// The options of the local scheme (-fracture_patch_*), its own.
+struct LocalRelaxationOptions {
+  double radius = 5.0;         // patch = nodes within this many a of new ruptures
+  double margin = 0.05;        // a patch field breaks a bond only above (1 + margin) f
+  double max_fraction = 0.2;   // larger patches are solved globally
+  double rtol = 1e-6;          // patch solves to this fraction of their residual
+};
+
+/// The registry entry of the scheme `local`: its factory, options and
+/// fingerprint sharing one LocalRelaxationOptions.
+RelaxationEntry local_relaxation_entry();
+
 class LocalRelaxation : public Relaxation {
  public:
   /// Collective.
-  explicit LocalRelaxation(const RelaxationParts& parts);
+  LocalRelaxation(const RelaxationParts& parts, const LocalRelaxationOptions& options);
   RelaxationOutcome relax(std::int64_t step, double top_displacement, double strain,
                           double stress_before) override;
   std::string saved_state() const override;
@@ -71,6 +85,7 @@ class LocalRelaxation : public Relaxation {
   double patch_error(const std::vector<double>& patch_tensions,
                      const std::vector<double>& global_tensions) const;
 
+  LocalRelaxationOptions o_;
   double radius_ = 1;  // the patch radius, lattice units
   CellGrid grid_;      // cells at least the patch radius wide
   std::vector<std::vector<int>> cells_;  // owned nodes by cell

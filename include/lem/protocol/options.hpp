@@ -26,10 +26,6 @@ struct FractureOptions {
   bool stop_within_step = false;     // test the stop fraction after every relaxation
                                      // cycle (calibration: only the peak matters)
   std::int64_t max_steps = 1000000;
-  double patch_radius = 5.0;         // local: patch = nodes within this many a of new ruptures
-  double patch_margin = 0.05;        // local: a patch field breaks a bond only above (1 + margin) f
-  double patch_max_fraction = 0.2;   // local: larger patches are solved globally
-  double patch_rtol = 1e-6;          // local: patch solves to this fraction of their residual
   // Relaxation solves end as soon as they decide the next batch (the error
   // of a force taken as decision_safety times its change over the last
   // decision_interval CG iterations); 0: every solve to -ksp_rtol.

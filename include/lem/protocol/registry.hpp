@@ -7,6 +7,7 @@
 // and the summary name it like the others.
 #pragma once
 
+#include "lem/options.hpp"
 #include "lem/protocol/break_rule.hpp"
 #include "lem/protocol/relaxation.hpp"
 
@@ -27,9 +28,14 @@ struct RelaxationEntry {
   std::string name;  // the word of -fracture_relaxation
   std::string help;
   std::function<std::unique_ptr<Relaxation>(const RelaxationParts&)> make;
+  /// Reads the scheme's own options into its own storage (which `make`
+  /// shares), in the group "Relaxation after ruptures".  Called for every
+  /// registered scheme, whichever is chosen, so that -help lists them and a
+  /// misspelt one is an error.  None if empty.
+  std::function<void(OptionGroup&)> read_options = {};
   /// Lines "key=value\n" for the fingerprint of checkpoints and results: the
   /// options of the scheme that change results (none if empty).
-  std::function<std::string(const FractureOptions&)> fingerprint = {};
+  std::function<std::string()> fingerprint = {};
 };
 
 /// Every break rule and relaxation scheme, built-in ones first.
