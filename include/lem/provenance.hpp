@@ -22,6 +22,9 @@ std::string version_text(const std::string& program);
 /// -version (or --version) among the arguments.
 bool version_requested(int argc, char** argv);
 
+/// This machine's clock now, ISO 8601 UTC.
+std::string iso8601_utc_now();
+
 /// Collective: rank 0's clock and options database, on every rank.
 Provenance collect_provenance(MPI_Comm comm, const std::string& program);
 

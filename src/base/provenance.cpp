@@ -25,7 +25,6 @@
 #endif
 
 namespace lem {
-namespace {
 
 std::string iso8601_utc_now() {
   const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
@@ -35,6 +34,8 @@ std::string iso8601_utc_now() {
   std::strftime(buffer, sizeof buffer, "%Y-%m-%dT%H:%M:%SZ", &utc);
   return buffer;
 }
+
+namespace {
 
 /// options_as_text gives "-a 1 -b -c x "; put one option (with its value) per line.
 /// A token starts a new option when it is '-' followed by a letter or '_'

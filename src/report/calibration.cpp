@@ -110,8 +110,9 @@ void write_calibration(MPI_Comm comm, const std::string& path, const std::string
     out.precision(17);
     out << "# sigma^[p] and E^[p] of the homogeneous lattice (paper sect. 3), E^phase units;\n"
         << "# written by " << provenance.program << " " << provenance.version << " ("
-        << provenance.git_hash << ") on " << provenance.ranks << " ranks, "
-        << provenance.start_time << "\n"
+        << provenance.git_hash << ") on " << provenance.ranks
+        << (provenance.ranks == 1 ? " rank, " : " ranks, ")
+        << iso8601_utc_now() << "\n"
         << "sigma_hom=" << c.sigma_hom << "\nE_hom=" << c.e_hom << "\n";
     std::istringstream in(without_ranks(fingerprint));
     for (std::string line; std::getline(in, line);) out << kFingerprintLine << " " << line << "\n";
