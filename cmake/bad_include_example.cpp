@@ -1,3 +1,3 @@
 // Deliberately wrong: the layering test checks this file as part of the
 // lattice module, which may not use the elastic system (module system).
-#include "lem/elastic_system.hpp"
+#include "lem/system/elastic_system.hpp"

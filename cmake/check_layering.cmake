@@ -4,9 +4,10 @@
 #         -P check_layering.cmake
 #
 # LAYERS is written by lem_module() in the root CMakeLists.txt, one line per
-# module: name|dependency,...|header,...  A module may use its own headers
-# and those of its dependencies, transitively.  Headers of include/lem/<m>/
-# belong to module <m>.  Every header in include/lem must belong to a module.
+# module: name|dependency,...  A module may use its own headers and those of
+# its dependencies, transitively.  A header's module is its folder: the
+# headers of include/lem/<m>/ belong to module <m>, and every header of
+# include/lem must sit in a module's folder.
 # Drivers (drivers/*.cpp) may use every module.  EXTRA checks one more file
 # as if it were part of <module> (the test that the check catches a bad one).
 
@@ -17,15 +18,14 @@ set(modules "")
 foreach(line IN LISTS lines)
   string(REPLACE "|" ";" parts "${line}")
   list(GET parts 0 name)
-  list(GET parts 1 deps)
-  list(GET parts 2 headers)
-  string(REPLACE "," ";" deps "${deps}")
-  string(REPLACE "," ";" headers "${headers}")
+  list(LENGTH parts count)
+  set(deps "")
+  if(count GREATER 1)
+    list(GET parts 1 deps)
+    string(REPLACE "," ";" deps "${deps}")
+  endif()
   list(APPEND modules ${name})
   set(deps_${name} ${deps})
-  foreach(h IN LISTS headers)
-    set(owner_${h} ${name})
-  endforeach()
 endforeach()
 
 # Everything a module may use: itself and its dependencies' closures (the
@@ -40,9 +40,7 @@ endforeach()
 set(allowed_drivers ${modules})
 
 function(owner_of header out)
-  if(DEFINED owner_${header})
-    set(${out} ${owner_${header}} PARENT_SCOPE)
-  elseif(header MATCHES "^([a-z_]+)/" AND CMAKE_MATCH_1 IN_LIST modules)
+  if(header MATCHES "^([a-z_]+)/[^/]+$" AND CMAKE_MATCH_1 IN_LIST modules)
     set(${out} ${CMAKE_MATCH_1} PARENT_SCOPE)
   else()
     set(${out} "" PARENT_SCOPE)
@@ -71,7 +69,7 @@ file(GLOB_RECURSE headers RELATIVE "${SOURCE_DIR}/include/lem" "${SOURCE_DIR}/in
 foreach(h IN LISTS headers)
   owner_of(${h} owner)
   if(owner STREQUAL "")
-    list(APPEND problems "include/lem/${h} belongs to no module (add it to lem_module HEADERS)")
+    list(APPEND problems "include/lem/${h} is in no module's folder (move it to include/lem/<module>/)")
   else()
     check_file(${owner} "${SOURCE_DIR}/include/lem/${h}")
   endif()

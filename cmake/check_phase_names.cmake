@@ -1,12 +1,12 @@
 # The Python side (tools/lem_tools/phases.py) must list the bond phases of
-# include/lem/phase.hpp, in code order: as one sequence of quoted names
+# include/lem/base/phase.hpp, in code order: as one sequence of quoted names
 # ("p", "m", ...) or as assignments (p = 0, m = 1, ...).
 #   cmake -DSOURCE_DIR=<repo> -P check_phase_names.cmake
 cmake_minimum_required(VERSION 3.20)
 
-file(READ "${SOURCE_DIR}/include/lem/phase.hpp" header)
+file(READ "${SOURCE_DIR}/include/lem/base/phase.hpp" header)
 if(NOT header MATCHES "kPhaseNames\\{([^}]*)\\}")
-  message(FATAL_ERROR "phase names: no kPhaseNames{...} in include/lem/phase.hpp")
+  message(FATAL_ERROR "phase names: no kPhaseNames{...} in include/lem/base/phase.hpp")
 endif()
 string(REGEX MATCHALL "\"[a-z]+\"" quoted "${CMAKE_MATCH_1}")
 string(REPLACE "\"" "" names "${quoted}")
@@ -35,7 +35,7 @@ endif()
 foreach(pattern IN LISTS assignments)
   if(NOT text MATCHES "${pattern}")
     message(FATAL_ERROR "phase names: ${python} does not list the phases ${names} "
-                        "of include/lem/phase.hpp in that order")
+                        "of include/lem/base/phase.hpp in that order")
   endif()
 endforeach()
 message(STATUS "phase names: ${python} numbers ${names}")

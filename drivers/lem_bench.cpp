@@ -1,14 +1,14 @@
-// Benchmark of the tension pipeline at one size and rank count (lem/benchmark.hpp):
+// Benchmark of the tension pipeline at one size and rank count (lem/bench/benchmark.hpp):
 // set-up stages, assembly, preconditioner set-up, CG solve, peak memory, the
 // fine-level MatMult and a STREAM triad measured in the same run, then the bond
 // operator beside the assembled K.  Prints figures, not a verdict.
 //
 //   mpirun -n 2 lem_bench -bench_bonds 1300000 -options_file jobs/solver-gamg.opts
 //   lem_bench -bench_voronoi 200000 -lattice_seed 3      # voronoi_volumes() alone
-#include "lem/benchmark.hpp"
-#include "lem/driver.hpp"
-#include "lem/error.hpp"
-#include "lem/options.hpp"
+#include "lem/bench/benchmark.hpp"
+#include "lem/base/driver.hpp"
+#include "lem/base/error.hpp"
+#include "lem/base/options.hpp"
 
 #include <string>
 

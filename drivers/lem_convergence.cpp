@@ -5,17 +5,17 @@
 //
 //   mpirun -n 2 lem_convergence -convergence_Ln 0.05,0.04,0.03,0.02 -output_dir results/convergence
 //   /usr/bin/python3 tools/plot_convergence.py results/convergence
-#include "lem/driver.hpp"
-#include "lem/elastic_system.hpp"
-#include "lem/error.hpp"
-#include "lem/files.hpp"
-#include "lem/hdf5_writer.hpp"
-#include "lem/line_fit.hpp"
-#include "lem/options.hpp"
-#include "lem/result_folder.hpp"
-#include "lem/setup.hpp"
-#include "lem/summary.hpp"
-#include "lem/tension_output.hpp"
+#include "lem/base/driver.hpp"
+#include "lem/system/elastic_system.hpp"
+#include "lem/base/error.hpp"
+#include "lem/base/files.hpp"
+#include "lem/io/hdf5_writer.hpp"
+#include "lem/base/line_fit.hpp"
+#include "lem/base/options.hpp"
+#include "lem/run/result_folder.hpp"
+#include "lem/setup/setup.hpp"
+#include "lem/base/summary.hpp"
+#include "lem/fields/tension_output.hpp"
 
 #include <cmath>
 #include <sstream>

@@ -3,7 +3,7 @@
 //
 //   mpirun -n 2 lem_fracture -sample_file meshes/demo.h5 -output_dir results/fracture
 //   mpirun -n 2 lem_fracture -lattice_bonds 200000 -lattice_break_strain 1e-3
-#include "lem/fracture_run.hpp"
+#include "lem/run/fracture_run.hpp"
 
 static const char help[] =
     "Quasi-static uniaxial tension to complete failure of an elastic-brittle spring lattice\n"

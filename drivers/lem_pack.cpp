@@ -7,16 +7,16 @@
 //
 // The packing is serial: rank 0 builds it, other ranks only take part in the
 // option handling and the error report.
-#include "lem/driver.hpp"
-#include "lem/error.hpp"
-#include "lem/files.hpp"
-#include "lem/hdf5_writer.hpp"
-#include "lem/options.hpp"
-#include "lem/packing.hpp"
-#include "lem/packing_file.hpp"
-#include "lem/result_folder.hpp"
-#include "lem/sample_options.hpp"
-#include "lem/summary.hpp"
+#include "lem/base/driver.hpp"
+#include "lem/base/error.hpp"
+#include "lem/base/files.hpp"
+#include "lem/io/hdf5_writer.hpp"
+#include "lem/base/options.hpp"
+#include "lem/packing/packing.hpp"
+#include "lem/packing/packing_file.hpp"
+#include "lem/run/result_folder.hpp"
+#include "lem/setup/sample_options.hpp"
+#include "lem/base/summary.hpp"
 
 #include <cstdio>
 #include <string>

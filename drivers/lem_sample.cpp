@@ -5,18 +5,18 @@
 //   lem_sample -sample_particles 64 -output_dir meshes -output_stem tiny
 //
 // With -lattice_generator serial (the default) the sample is built on rank 0;
-// with cells every rank builds and writes its share (lem/parallel_sample.hpp).
-#include "lem/cemented_sample.hpp"
-#include "lem/driver.hpp"
-#include "lem/error.hpp"
-#include "lem/files.hpp"
-#include "lem/hdf5_writer.hpp"
-#include "lem/options.hpp"
-#include "lem/parallel_sample.hpp"
-#include "lem/sample_file.hpp"
-#include "lem/sample_options.hpp"
-#include "lem/sample_summary.hpp"
-#include "lem/summary.hpp"
+// with cells every rank builds and writes its share (lem/sample/parallel_sample.hpp).
+#include "lem/sample/cemented_sample.hpp"
+#include "lem/base/driver.hpp"
+#include "lem/base/error.hpp"
+#include "lem/base/files.hpp"
+#include "lem/io/hdf5_writer.hpp"
+#include "lem/base/options.hpp"
+#include "lem/sample/parallel_sample.hpp"
+#include "lem/sample/sample_writer.hpp"
+#include "lem/setup/sample_options.hpp"
+#include "lem/report/sample_summary.hpp"
+#include "lem/base/summary.hpp"
 
 #include <string>
 

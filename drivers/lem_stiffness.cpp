@@ -1,15 +1,15 @@
 // Effective Young's modulus of cemented samples against the matrix volume
 // fraction (Affes et al. 2012, sect. 3, figs. 5 and 11, appendix D;
-// lem/stiffness_study.hpp).
+// lem/run/stiffness_study.hpp).
 //
 //   mpirun -n 2 lem_stiffness -output_dir results/stiffness
 //   /usr/bin/python3 tools/plot_stiffness.py results/stiffness
-#include "lem/driver.hpp"
-#include "lem/error.hpp"
-#include "lem/options.hpp"
-#include "lem/sample_options.hpp"
-#include "lem/setup.hpp"
-#include "lem/stiffness_study.hpp"
+#include "lem/base/driver.hpp"
+#include "lem/base/error.hpp"
+#include "lem/base/options.hpp"
+#include "lem/setup/sample_options.hpp"
+#include "lem/setup/setup.hpp"
+#include "lem/run/stiffness_study.hpp"
 
 #include <string>
 

@@ -3,12 +3,12 @@
 //
 //   mpirun -n 2 lem_tension -lattice_bonds 1300000 -output_dir results/tension
 //   mpirun -n 2 lem_tension -sample_file meshes/demo.h5 -output_dir results/demo
-#include "lem/driver.hpp"
-#include "lem/options.hpp"
-#include "lem/result_folder.hpp"
-#include "lem/setup.hpp"
-#include "lem/tension_output.hpp"
-#include "lem/tension_summary.hpp"
+#include "lem/base/driver.hpp"
+#include "lem/base/options.hpp"
+#include "lem/run/result_folder.hpp"
+#include "lem/setup/setup.hpp"
+#include "lem/fields/tension_output.hpp"
+#include "lem/report/tension_summary.hpp"
 
 static const char help[] =
     "Elastic uniaxial tension of a spring lattice (Affes et al., EPJE 35, 2012).\n"

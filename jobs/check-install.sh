@@ -45,7 +45,7 @@ step "install into $prefix"
 cmake --install "$work/build" --prefix "$prefix" > "$work/install.log" 2>&1 ||
   { tail -20 "$work/install.log" >&2; fail "install"; }
 for f in bin/lem_fracture bin/lem_sample bin/lem_tension lib/liblem_base.a lib/liblem_report.a \
-         include/lem/lattice.hpp include/lem/protocol/options.hpp \
+         include/lem/lattice/lattice.hpp include/lem/protocol/options.hpp \
          lib/cmake/lem3d/lem3dConfig.cmake lib/cmake/lem3d/lem3dConfigVersion.cmake \
          lib/cmake/lem3d/lem3dTargets.cmake share/lem3d/tools/lem_tools/__init__.py \
          share/lem3d/tools/plot_fracture.py share/lem3d/meshes/mini.h5 \

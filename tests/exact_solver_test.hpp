@@ -3,7 +3,7 @@
 // springs (pass `exact` to ElasticSystem).
 #pragma once
 
-#include "lem/elastic_system.hpp"
+#include "lem/system/elastic_system.hpp"
 
 #include <gtest/gtest.h>
 #include <petscsys.h>

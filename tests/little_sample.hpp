@@ -2,7 +2,7 @@
 // on a 2e4-bond lattice, built in a second or two.
 #pragma once
 
-#include "lem/cemented_sample.hpp"
+#include "lem/sample/cemented_sample.hpp"
 
 inline lem::CementedSampleSpec little_sample_spec() {
   lem::CementedSampleSpec spec;

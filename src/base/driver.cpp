@@ -1,9 +1,9 @@
-#include "lem/driver.hpp"
+#include "lem/base/driver.hpp"
 
-#include "lem/error.hpp"
-#include "lem/options.hpp"
-#include "lem/provenance.hpp"
-#include "lem/stop.hpp"
+#include "lem/base/error.hpp"
+#include "lem/base/options.hpp"
+#include "lem/base/provenance.hpp"
+#include "lem/base/stop.hpp"
 
 #include <petscsys.h>
 #include <sys/resource.h>

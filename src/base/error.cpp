@@ -1,6 +1,6 @@
-#include "lem/error.hpp"
+#include "lem/base/error.hpp"
 
-#include "lem/collective.hpp"
+#include "lem/base/collective.hpp"
 
 #include <cctype>
 #include <chrono>

@@ -1,6 +1,6 @@
-#include "lem/files.hpp"
+#include "lem/base/files.hpp"
 
-#include "lem/error.hpp"
+#include "lem/base/error.hpp"
 
 #include <fcntl.h>
 #include <signal.h>

@@ -1,6 +1,6 @@
-#include "lem/log.hpp"
+#include "lem/base/log.hpp"
 
-#include "lem/error.hpp"
+#include "lem/base/error.hpp"
 
 #include <cstdarg>
 #include <cstdio>

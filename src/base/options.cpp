@@ -1,6 +1,6 @@
-#include "lem/options.hpp"
+#include "lem/base/options.hpp"
 
-#include "lem/error.hpp"
+#include "lem/base/error.hpp"
 
 #include <algorithm>
 #include <cctype>

@@ -1,7 +1,7 @@
 // -options_file followed through the files it names, before PETSc reads
 // them: a missing file, a file that includes itself and too deep a nesting
 // are named here rather than met by PETSc (which recurses without a bound).
-#include "lem/options.hpp"
+#include "lem/base/options.hpp"
 
 #include <algorithm>
 #include <cctype>

@@ -1,9 +1,9 @@
-#include "lem/provenance.hpp"
+#include "lem/base/provenance.hpp"
 
-#include "lem/options.hpp"
+#include "lem/base/options.hpp"
 
-#include "lem/collective.hpp"
-#include "lem/error.hpp"
+#include "lem/base/collective.hpp"
+#include "lem/base/error.hpp"
 
 #include <petscsys.h>
 

@@ -1,4 +1,4 @@
-#include "lem/redistribute.hpp"
+#include "lem/base/redistribute.hpp"
 
 #include <algorithm>
 #include <limits>

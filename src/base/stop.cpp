@@ -1,4 +1,4 @@
-#include "lem/stop.hpp"
+#include "lem/base/stop.hpp"
 
 #include <signal.h>
 #include <unistd.h>

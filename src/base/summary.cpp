@@ -1,6 +1,6 @@
-#include "lem/summary.hpp"
+#include "lem/base/summary.hpp"
 
-#include "lem/files.hpp"
+#include "lem/base/files.hpp"
 
 #include <algorithm>
 #include <cmath>

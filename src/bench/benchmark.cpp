@@ -1,11 +1,11 @@
-#include "lem/benchmark.hpp"
+#include "lem/bench/benchmark.hpp"
 
-#include "lem/driver.hpp"
-#include "lem/error.hpp"
-#include "lem/log.hpp"
-#include "lem/options.hpp"
-#include "lem/petsc_handle.hpp"
-#include "lem/voronoi.hpp"
+#include "lem/base/driver.hpp"
+#include "lem/base/error.hpp"
+#include "lem/base/log.hpp"
+#include "lem/base/options.hpp"
+#include "lem/base/petsc_handle.hpp"
+#include "lem/lattice/voronoi.hpp"
 
 #include <algorithm>
 #include <array>

@@ -1,4 +1,4 @@
-#include "lem/tension_output.hpp"
+#include "lem/fields/tension_output.hpp"
 
 
 namespace lem {

@@ -1,7 +1,7 @@
-// What lem's HDF5 writers share (lem/hdf5_util.hpp): attributes with the
+// What lem's HDF5 writers share (lem/io/hdf5_util.hpp): attributes with the
 // provenance, and XDMF 3 text over the HDF5 files — one-grid documents and a
 // temporal collection of such grids.
-#include "lem/hdf5_util.hpp"
+#include "lem/io/hdf5_util.hpp"
 
 #include <hdf5.h>
 
@@ -11,8 +11,8 @@
 #include <iterator>
 #include <sstream>
 
-#include "lem/error.hpp"
-#include "lem/files.hpp"
+#include "lem/base/error.hpp"
+#include "lem/base/files.hpp"
 
 namespace lem {
 namespace h5 {

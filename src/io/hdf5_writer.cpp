@@ -1,11 +1,11 @@
 // Parallel HDF5 output of lattice fields and their one-grid XDMF documents
-// (see lem/hdf5_writer.hpp; the attribute helpers and the XDMF text are in
+// (see lem/io/hdf5_writer.hpp; the attribute helpers and the XDMF text are in
 // hdf5_util.cpp).
 //
 // Every failure that can happen on a subset of ranks is agreed on with an
 // MPI reduction before anybody throws, so that all ranks throw the same
 // exception together instead of some of them waiting forever in a collective.
-#include "lem/hdf5_writer.hpp"
+#include "lem/io/hdf5_writer.hpp"
 
 #include <hdf5.h>
 #include <petscsys.h>
@@ -25,13 +25,13 @@
 #include <system_error>
 #include <utility>
 
-#include "lem/collective.hpp"
-#include "lem/error.hpp"
-#include "lem/files.hpp"
-#include "lem/hdf5_util.hpp"
-#include "lem/parallel_hdf5.hpp"
-#include "lem/options.hpp"
-#include "lem/write_watch.hpp"
+#include "lem/base/collective.hpp"
+#include "lem/base/error.hpp"
+#include "lem/base/files.hpp"
+#include "lem/io/hdf5_util.hpp"
+#include "lem/io/parallel_hdf5.hpp"
+#include "lem/base/options.hpp"
+#include "lem/io/write_watch.hpp"
 
 namespace lem {
 namespace {

@@ -1,9 +1,9 @@
-#include "lem/parallel_hdf5.hpp"
+#include "lem/io/parallel_hdf5.hpp"
 
-#include "lem/collective.hpp"
-#include "lem/error.hpp"
-#include "lem/files.hpp"
-#include "lem/write_watch.hpp"
+#include "lem/base/collective.hpp"
+#include "lem/base/error.hpp"
+#include "lem/base/files.hpp"
+#include "lem/io/write_watch.hpp"
 
 #include <algorithm>
 #include <exception>

@@ -1,7 +1,7 @@
-#include "lem/write_watch.hpp"
+#include "lem/io/write_watch.hpp"
 
-#include "lem/error.hpp"
-#include "lem/stop.hpp"
+#include "lem/base/error.hpp"
+#include "lem/base/stop.hpp"
 
 #include <sys/statvfs.h>
 #include <unistd.h>

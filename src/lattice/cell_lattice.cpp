@@ -1,10 +1,10 @@
-// The random lattice of lem/cell_lattice.hpp, made in parallel.
-#include "lem/cell_lattice.hpp"
+// The random lattice of lem/lattice/cell_lattice.hpp, made in parallel.
+#include "lem/lattice/cell_lattice.hpp"
 
-#include "lem/byte_stream.hpp"
-#include "lem/collective.hpp"
-#include "lem/error.hpp"
-#include "lem/redistribute.hpp"
+#include "lem/base/byte_stream.hpp"
+#include "lem/base/collective.hpp"
+#include "lem/base/error.hpp"
+#include "lem/base/redistribute.hpp"
 
 #include "random_points.hpp"
 

@@ -1,6 +1,6 @@
-#include "lem/inclusions.hpp"
+#include "lem/lattice/inclusions.hpp"
 
-#include "lem/error.hpp"
+#include "lem/base/error.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "lem/lattice.hpp"
+#include "lem/lattice/lattice.hpp"
 
 #include <algorithm>
 #include <bit>

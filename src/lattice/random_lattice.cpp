@@ -1,8 +1,8 @@
 // Random lattice: hard-core random points (random sequential addition) on the
 // corners, edges, faces and inside of the box, joined by their Delaunay edges.
-#include "lem/cell_grid.hpp"
-#include "lem/error.hpp"
-#include "lem/lattice.hpp"
+#include "lem/base/cell_grid.hpp"
+#include "lem/base/error.hpp"
+#include "lem/lattice/lattice.hpp"
 
 #include "random_points.hpp"
 

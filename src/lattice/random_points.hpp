@@ -3,7 +3,7 @@
 // point process, and the Delaunay triangulation of its points.
 #pragma once
 
-#include "lem/lattice.hpp"
+#include "lem/lattice/lattice.hpp"
 
 #include <CGAL/Delaunay_triangulation_3.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>

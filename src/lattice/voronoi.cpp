@@ -8,9 +8,9 @@
 // the clipped surface stays closed whatever the rounding: the cap face is
 // assembled from the on-plane edges of the kept faces, and the volume follows
 // from the divergence theorem (a fan of tetrahedra from the node).
-#include "lem/voronoi.hpp"
+#include "lem/lattice/voronoi.hpp"
 
-#include "lem/error.hpp"
+#include "lem/base/error.hpp"
 
 #include <algorithm>
 #include <cmath>

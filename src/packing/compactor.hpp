@@ -4,8 +4,8 @@
 // d_min, the contact stiffness and the masses are 1.
 #pragma once
 
-#include "lem/error.hpp"
-#include "lem/packing.hpp"
+#include "lem/base/error.hpp"
+#include "lem/packing/packing.hpp"
 #include "pair_search.hpp"
 
 #include <algorithm>

@@ -1,7 +1,7 @@
 // Cubic sample cut out of a periodic packing, and the exact volume of a
 // sphere clipped by a box (see packing.hpp).
-#include "lem/error.hpp"
-#include "lem/packing.hpp"
+#include "lem/base/error.hpp"
+#include "lem/packing/packing.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -4,10 +4,10 @@
 //
 // Internally lengths are in units of d_min and the contact stiffness and the
 // masses are 1, so the FIRE time step does not depend on the user's units.
-#include "lem/packing.hpp"
+#include "lem/packing/packing.hpp"
 
 #include "compactor.hpp"
-#include "lem/error.hpp"
+#include "lem/base/error.hpp"
 #include "pair_search.hpp"
 
 #include <algorithm>

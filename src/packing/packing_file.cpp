@@ -1,6 +1,6 @@
-#include "lem/packing_file.hpp"
+#include "lem/packing/packing_file.hpp"
 
-#include "lem/summary.hpp"
+#include "lem/base/summary.hpp"
 
 #include <cstdio>
 

@@ -1,12 +1,12 @@
 #include "lem/protocol/checkpoint.hpp"
 
-#include "lem/byte_stream.hpp"
-#include "lem/collective.hpp"
-#include "lem/log.hpp"
-#include "lem/error.hpp"
-#include "lem/files.hpp"
+#include "lem/base/byte_stream.hpp"
+#include "lem/base/collective.hpp"
+#include "lem/base/log.hpp"
+#include "lem/base/error.hpp"
+#include "lem/base/files.hpp"
 #include "lem/protocol/registry.hpp"
-#include "lem/write_watch.hpp"
+#include "lem/io/write_watch.hpp"
 
 #include <algorithm>
 #include <cmath>

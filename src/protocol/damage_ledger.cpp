@@ -1,7 +1,7 @@
 #include "lem/protocol/damage_ledger.hpp"
 
-#include "lem/collective.hpp"
-#include "lem/error.hpp"
+#include "lem/base/collective.hpp"
+#include "lem/base/error.hpp"
 
 #include <algorithm>
 #include <string>

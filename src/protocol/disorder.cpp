@@ -1,6 +1,6 @@
 #include "lem/protocol/disorder.hpp"
 
-#include "lem/byte_stream.hpp"
+#include "lem/base/byte_stream.hpp"
 
 #include <cmath>
 

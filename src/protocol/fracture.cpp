@@ -3,11 +3,11 @@
 // solved at the new load, then relaxed until no bond is critical.  Between
 // steps the run may checkpoint, stop on a signal or end; between relaxation
 // cycles it may stop on a signal, saving the equilibrium before the step.
-#include "lem/fracture.hpp"
+#include "lem/protocol/fracture.hpp"
 
-#include "lem/collective.hpp"
-#include "lem/error.hpp"
-#include "lem/log.hpp"
+#include "lem/base/collective.hpp"
+#include "lem/base/error.hpp"
+#include "lem/base/log.hpp"
 #include "lem/protocol/break_rule.hpp"
 #include "lem/protocol/checkpoint.hpp"
 #include "lem/protocol/damage_ledger.hpp"
@@ -17,8 +17,8 @@
 #include "lem/protocol/recorder.hpp"
 #include "lem/protocol/relaxation.hpp"
 #include "lem/protocol/warnings.hpp"
-#include "lem/options.hpp"
-#include "lem/stop.hpp"
+#include "lem/base/options.hpp"
+#include "lem/base/stop.hpp"
 
 #include <cmath>
 #include <cstdlib>

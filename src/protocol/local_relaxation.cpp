@@ -2,9 +2,9 @@
 
 #include "lem/protocol/registry.hpp"
 
-#include "lem/log.hpp"
-#include "lem/error.hpp"
-#include "lem/tension.hpp"
+#include "lem/base/log.hpp"
+#include "lem/base/error.hpp"
+#include "lem/system/tension.hpp"
 
 #include <algorithm>
 #include <cmath>

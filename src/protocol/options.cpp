@@ -1,7 +1,7 @@
 #include "lem/protocol/options.hpp"
 
-#include "lem/error.hpp"
-#include "lem/options.hpp"
+#include "lem/base/error.hpp"
+#include "lem/base/options.hpp"
 #include "lem/protocol/registry.hpp"
 
 #include <sstream>

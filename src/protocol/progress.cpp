@@ -1,6 +1,6 @@
 #include "lem/protocol/progress.hpp"
 
-#include "lem/log.hpp"
+#include "lem/base/log.hpp"
 
 #include <mpi.h>
 

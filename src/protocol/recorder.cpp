@@ -1,12 +1,12 @@
 #include "lem/protocol/recorder.hpp"
 
-#include "lem/log.hpp"
-#include "lem/error.hpp"
-#include "lem/files.hpp"
-#include "lem/hdf5_util.hpp"
-#include "lem/node_stress.hpp"
-#include "lem/summary.hpp"
-#include "lem/tension_output.hpp"
+#include "lem/base/log.hpp"
+#include "lem/base/error.hpp"
+#include "lem/base/files.hpp"
+#include "lem/io/hdf5_util.hpp"
+#include "lem/system/node_stress.hpp"
+#include "lem/base/summary.hpp"
+#include "lem/fields/tension_output.hpp"
 
 #include <algorithm>
 #include <cerrno>

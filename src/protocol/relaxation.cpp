@@ -1,8 +1,8 @@
 #include "lem/protocol/relaxation.hpp"
 
-#include "lem/collective.hpp"
-#include "lem/error.hpp"
-#include "lem/log.hpp"
+#include "lem/base/collective.hpp"
+#include "lem/base/error.hpp"
+#include "lem/base/log.hpp"
 
 #include <algorithm>
 #include <utility>

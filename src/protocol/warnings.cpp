@@ -1,7 +1,7 @@
 #include "lem/protocol/warnings.hpp"
 
-#include "lem/error.hpp"
-#include "lem/log.hpp"
+#include "lem/base/error.hpp"
+#include "lem/base/log.hpp"
 
 #include <cstdio>
 

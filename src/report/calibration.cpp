@@ -1,9 +1,9 @@
-#include "lem/calibration.hpp"
+#include "lem/report/calibration.hpp"
 
-#include "lem/byte_stream.hpp"
-#include "lem/error.hpp"
-#include "lem/files.hpp"
-#include "lem/log.hpp"
+#include "lem/base/byte_stream.hpp"
+#include "lem/base/error.hpp"
+#include "lem/base/files.hpp"
+#include "lem/base/log.hpp"
 #include "lem/protocol/checkpoint.hpp"
 
 #include <cstdio>

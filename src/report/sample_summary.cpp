@@ -1,7 +1,7 @@
-#include "lem/sample_summary.hpp"
+#include "lem/report/sample_summary.hpp"
 
-#include "lem/log.hpp"
-#include "lem/phase.hpp"
+#include "lem/base/log.hpp"
+#include "lem/base/phase.hpp"
 
 namespace lem {
 

@@ -1,4 +1,4 @@
-#include "lem/tension_summary.hpp"
+#include "lem/report/tension_summary.hpp"
 
 #include <algorithm>
 #include <cmath>

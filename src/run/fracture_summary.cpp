@@ -1,4 +1,4 @@
-#include "lem/fracture_summary.hpp"
+#include "lem/run/fracture_summary.hpp"
 
 namespace lem {
 

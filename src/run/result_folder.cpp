@@ -1,12 +1,12 @@
-#include "lem/result_folder.hpp"
+#include "lem/run/result_folder.hpp"
 
-#include "lem/collective.hpp"
-#include "lem/error.hpp"
-#include "lem/files.hpp"
-#include "lem/log.hpp"
-#include "lem/options.hpp"
+#include "lem/base/collective.hpp"
+#include "lem/base/error.hpp"
+#include "lem/base/files.hpp"
+#include "lem/base/log.hpp"
+#include "lem/base/options.hpp"
 #include "lem/protocol/checkpoint.hpp"
-#include "lem/stop.hpp"
+#include "lem/base/stop.hpp"
 
 #include <algorithm>
 #include <filesystem>

@@ -1,17 +1,17 @@
-#include "lem/stiffness_study.hpp"
+#include "lem/run/stiffness_study.hpp"
 
 #include <functional>
 #include <sstream>
 
-#include "lem/driver.hpp"
-#include "lem/effective_medium.hpp"
-#include "lem/error.hpp"
-#include "lem/files.hpp"
-#include "lem/line_fit.hpp"
-#include "lem/log.hpp"
-#include "lem/options.hpp"
-#include "lem/setup.hpp"
-#include "lem/summary.hpp"
+#include "lem/base/driver.hpp"
+#include "lem/sample/effective_medium.hpp"
+#include "lem/base/error.hpp"
+#include "lem/base/files.hpp"
+#include "lem/base/line_fit.hpp"
+#include "lem/base/log.hpp"
+#include "lem/base/options.hpp"
+#include "lem/setup/setup.hpp"
+#include "lem/base/summary.hpp"
 
 namespace lem {
 

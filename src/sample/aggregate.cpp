@@ -1,7 +1,7 @@
-#include "lem/aggregate.hpp"
+#include "lem/sample/aggregate.hpp"
 
-#include "lem/cell_grid.hpp"
-#include "lem/error.hpp"
+#include "lem/base/cell_grid.hpp"
+#include "lem/base/error.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,7 +1,7 @@
-#include "lem/cemented_sample.hpp"
+#include "lem/sample/cemented_sample.hpp"
 
-#include "lem/error.hpp"
-#include "lem/voronoi.hpp"
+#include "lem/base/error.hpp"
+#include "lem/lattice/voronoi.hpp"
 
 #include "sample_stages.hpp"
 

@@ -1,6 +1,6 @@
-#include "lem/effective_medium.hpp"
+#include "lem/sample/effective_medium.hpp"
 
-#include "lem/error.hpp"
+#include "lem/base/error.hpp"
 
 #include <cmath>
 

@@ -1,10 +1,10 @@
-#include "lem/parallel_sample.hpp"
+#include "lem/sample/parallel_sample.hpp"
 
-#include "lem/cell_lattice.hpp"
-#include "lem/error.hpp"
-#include "lem/exact_sum.hpp"
-#include "lem/redistribute.hpp"
-#include "lem/voronoi.hpp"
+#include "lem/lattice/cell_lattice.hpp"
+#include "lem/base/error.hpp"
+#include "lem/base/exact_sum.hpp"
+#include "lem/base/redistribute.hpp"
+#include "lem/lattice/voronoi.hpp"
 
 #include "sample_stages.hpp"
 

@@ -2,7 +2,7 @@
 // of its datasets: geometry, volumes, repeated bonds (sample_reader.cpp).
 #pragma once
 
-#include "lem/cemented_sample.hpp"
+#include "lem/sample/cemented_sample.hpp"
 
 #include <cstdint>
 #include <string>

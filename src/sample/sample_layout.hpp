@@ -1,9 +1,9 @@
-// What the writers and the reader of the sample file (lem/sample_file.hpp)
-// share: the lists of its scalar attributes, the HDF5 types of its
+// What the writer and the reader of the sample file (lem/sample/sample_reader.hpp,
+// lem/sample/sample_writer.hpp) share: the lists of its scalar attributes, the HDF5 types of its
 // datasets and the names of its choices.
 #pragma once
 
-#include "lem/cemented_sample.hpp"
+#include "lem/sample/cemented_sample.hpp"
 
 #include <hdf5.h>
 

@@ -1,12 +1,12 @@
-// Reading the cemented sample file (lem/sample_file.hpp), whole on one rank
+// Reading the cemented sample file (lem/sample/sample_reader.hpp), whole on one rank
 // or by blocks of rows on every rank, with checks of everything it loads so
 // that a wrong or damaged file is one clear message.
-#include "lem/sample_file.hpp"
+#include "lem/sample/sample_reader.hpp"
 
-#include "lem/collective.hpp"
-#include "lem/error.hpp"
-#include "lem/hdf5_util.hpp"
-#include "lem/redistribute.hpp"
+#include "lem/base/collective.hpp"
+#include "lem/base/error.hpp"
+#include "lem/io/hdf5_util.hpp"
+#include "lem/base/redistribute.hpp"
 
 #include "sample_checks.hpp"
 #include "sample_layout.hpp"

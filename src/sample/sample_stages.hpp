@@ -2,7 +2,7 @@
 // and the build in parallel (parallel_sample.cpp) share.
 #pragma once
 
-#include "lem/cemented_sample.hpp"
+#include "lem/sample/cemented_sample.hpp"
 
 #include <cstdint>
 #include <vector>

@@ -1,13 +1,13 @@
-// Writing the cemented sample file (lem/sample_file.hpp): serial HDF5 with
+// Writing the cemented sample file (lem/sample/sample_writer.hpp): serial HDF5 with
 // compressed chunks made in memory (write_sample), or every rank its rows
 // through parallel HDF5 (write_sample_block); and its XDMF description.
-#include "lem/sample_file.hpp"
+#include "lem/sample/sample_writer.hpp"
 
-#include "lem/collective.hpp"
-#include "lem/error.hpp"
-#include "lem/files.hpp"
-#include "lem/hdf5_util.hpp"
-#include "lem/parallel_hdf5.hpp"
+#include "lem/base/collective.hpp"
+#include "lem/base/error.hpp"
+#include "lem/base/files.hpp"
+#include "lem/io/hdf5_util.hpp"
+#include "lem/io/parallel_hdf5.hpp"
 
 #include "sample_layout.hpp"
 

@@ -2,11 +2,11 @@
 // (parallel_constraints.hpp).
 #include "parallel_constraints.hpp"
 
-#include "lem/collective.hpp"
-#include "lem/error.hpp"
-#include "lem/pieces.hpp"
-#include "lem/redistribute.hpp"
-#include "lem/tension.hpp"
+#include "lem/base/collective.hpp"
+#include "lem/base/error.hpp"
+#include "lem/system/pieces.hpp"
+#include "lem/base/redistribute.hpp"
+#include "lem/system/tension.hpp"
 
 #include <cmath>
 #include <map>

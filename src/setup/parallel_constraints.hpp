@@ -1,4 +1,4 @@
-// Step 5 of the parallel set-up (lem/parallel_setup.hpp): the constraints of
+// Step 5 of the parallel set-up (lem/setup/parallel_setup.hpp): the constraints of
 // make_tension_constraints found on the distributed lattice -- nodes with
 // fewer bonds than free degrees of freedom and pieces with fewer than three
 // nodes on the loaded faces pinned, each other piece anchored on a face
@@ -7,8 +7,8 @@
 // sums and picks gathered over the ranks (O(pieces x ranks)).
 #pragma once
 
-#include "lem/distributed_lattice.hpp"
-#include "lem/setup.hpp"
+#include "lem/system/distributed_lattice.hpp"
+#include "lem/setup/setup.hpp"
 
 #include <vector>
 

@@ -1,6 +1,6 @@
-#include "lem/sample_options.hpp"
+#include "lem/setup/sample_options.hpp"
 
-#include "lem/error.hpp"
+#include "lem/base/error.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,13 +1,13 @@
-#include "lem/setup.hpp"
+#include "lem/setup/setup.hpp"
 
-#include "lem/error.hpp"
-#include "lem/log.hpp"
-#include "lem/options.hpp"
-#include "lem/parallel_setup.hpp"
-#include "lem/partition.hpp"
-#include "lem/sample_file.hpp"
-#include "lem/sample_options.hpp"
-#include "lem/tension.hpp"
+#include "lem/base/error.hpp"
+#include "lem/base/log.hpp"
+#include "lem/base/options.hpp"
+#include "lem/setup/parallel_setup.hpp"
+#include "lem/system/partition.hpp"
+#include "lem/sample/sample_reader.hpp"
+#include "lem/setup/sample_options.hpp"
+#include "lem/system/tension.hpp"
 
 #include <algorithm>
 #include <cstdio>

@@ -1,7 +1,7 @@
 #include "bond_operator.hpp"
 
-#include "lem/error.hpp"
-#include "lem/tension.hpp"
+#include "lem/base/error.hpp"
+#include "lem/system/tension.hpp"
 
 #include <algorithm>
 #include <cmath>

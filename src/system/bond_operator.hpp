@@ -6,8 +6,8 @@
 // their first end), about a sixth of what an AIJ MatMult reads per bond.
 #pragma once
 
-#include "lem/distributed_lattice.hpp"
-#include "lem/petsc_handle.hpp"
+#include "lem/system/distributed_lattice.hpp"
+#include "lem/base/petsc_handle.hpp"
 
 #include <petscmat.h>
 

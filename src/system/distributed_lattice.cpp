@@ -1,8 +1,8 @@
-#include "lem/distributed_lattice.hpp"
+#include "lem/system/distributed_lattice.hpp"
 
-#include "lem/byte_stream.hpp"
-#include "lem/collective.hpp"
-#include "lem/error.hpp"
+#include "lem/base/byte_stream.hpp"
+#include "lem/base/collective.hpp"
+#include "lem/base/error.hpp"
 
 #include <algorithm>
 #include <cstring>

@@ -1,12 +1,12 @@
 // The state of the elastic system: the displacement field, the field kept
 // beside it by a decided solve (the decision certificate), and what is
 // computed from them (bond tensions, the macroscopic response).
-#include "lem/elastic_system.hpp"
+#include "lem/system/elastic_system.hpp"
 
 #include "bond_operator.hpp"
 
-#include "lem/error.hpp"
-#include "lem/lateral_strain.hpp"
+#include "lem/base/error.hpp"
+#include "lem/system/lateral_strain.hpp"
 
 #include <algorithm>
 #include <stdexcept>

@@ -1,12 +1,12 @@
-#include "lem/elastic_system.hpp"
+#include "lem/system/elastic_system.hpp"
 
 #include "bond_operator.hpp"
 #include "particle_deflation.hpp"
 #include "solver_defaults.hpp"
 
-#include "lem/error.hpp"
-#include "lem/log.hpp"
-#include "lem/options.hpp"
+#include "lem/base/error.hpp"
+#include "lem/base/log.hpp"
+#include "lem/base/options.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,6 +1,6 @@
-#include "lem/lateral_strain.hpp"
+#include "lem/system/lateral_strain.hpp"
 
-#include "lem/tension.hpp"
+#include "lem/system/tension.hpp"
 
 #include <mpi.h>
 

@@ -1,4 +1,4 @@
-#include "lem/node_stress.hpp"
+#include "lem/system/node_stress.hpp"
 
 #include <cmath>
 #include <stdexcept>

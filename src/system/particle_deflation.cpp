@@ -2,9 +2,9 @@
 
 #include "solver_defaults.hpp"
 
-#include "lem/error.hpp"
-#include "lem/log.hpp"
-#include "lem/tension.hpp"
+#include "lem/base/error.hpp"
+#include "lem/base/log.hpp"
+#include "lem/system/tension.hpp"
 
 #include <mpi.h>
 

@@ -15,8 +15,8 @@
 // factored again whenever K changes.
 #pragma once
 
-#include "lem/distributed_lattice.hpp"
-#include "lem/petsc_handle.hpp"
+#include "lem/system/distributed_lattice.hpp"
+#include "lem/base/petsc_handle.hpp"
 
 #include <petscksp.h>
 

@@ -1,6 +1,6 @@
-#include "lem/partition.hpp"
+#include "lem/system/partition.hpp"
 
-#include "lem/error.hpp"
+#include "lem/base/error.hpp"
 
 #include <metis.h>
 

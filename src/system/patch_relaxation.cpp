@@ -1,10 +1,10 @@
 // Patch solves of the elastic system (ElasticSystem::relax_patch): the
 // local relaxation of the fracture protocol relaxes a few nodes with the
 // rest held.
-#include "lem/elastic_system.hpp"
+#include "lem/system/elastic_system.hpp"
 
-#include "lem/error.hpp"
-#include "lem/tension.hpp"
+#include "lem/base/error.hpp"
+#include "lem/system/tension.hpp"
 
 #include <vector>
 

@@ -2,10 +2,10 @@
 // the CG + GAMG defaults set on the objects, and the patch solver's KSP.
 #include "solver_defaults.hpp"
 
-#include "lem/elastic_system.hpp"
-#include "lem/error.hpp"
-#include "lem/options.hpp"
-#include "lem/petsc_handle.hpp"
+#include "lem/system/elastic_system.hpp"
+#include "lem/base/error.hpp"
+#include "lem/base/options.hpp"
+#include "lem/base/petsc_handle.hpp"
 
 #include <string>
 

@@ -1,6 +1,6 @@
-#include "lem/tension.hpp"
+#include "lem/system/tension.hpp"
 
-#include "lem/error.hpp"
+#include "lem/base/error.hpp"
 
 #include <algorithm>
 #include <bit>

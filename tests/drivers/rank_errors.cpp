@@ -6,8 +6,8 @@
 //   lem_rank_errors agreed    rank 1 fails in a collective stage
 //   lem_rank_errors root      a numerical failure in a serial stage on rank 0
 //   lem_rank_errors petsc     PETSc raises an error on every rank
-#include "lem/driver.hpp"
-#include "lem/error.hpp"
+#include "lem/base/driver.hpp"
+#include "lem/base/error.hpp"
 
 #include <petscsys.h>
 

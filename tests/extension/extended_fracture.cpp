@@ -2,10 +2,10 @@
 // from outside the library, as docs/developer/extending.md walks through:
 // each is a class or a function and one registration before the options
 // are read.
-#include "lem/error.hpp"
-#include "lem/files.hpp"
-#include "lem/fracture_run.hpp"
-#include "lem/log.hpp"
+#include "lem/base/error.hpp"
+#include "lem/base/files.hpp"
+#include "lem/run/fracture_run.hpp"
+#include "lem/base/log.hpp"
 #include "lem/protocol/registry.hpp"
 
 #include <algorithm>

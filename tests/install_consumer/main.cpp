@@ -1,8 +1,8 @@
 // Uses lem3d as a library: PETSc and MPI start-up, an FCC lattice (lattice
 // module), its affine moduli, and a bond phase name (base module).  Prints
 // one line; exits 1 if the values are not the closed-form ones.
-#include "lem/lattice.hpp"
-#include "lem/phase.hpp"
+#include "lem/lattice/lattice.hpp"
+#include "lem/base/phase.hpp"
 
 #include <petscsys.h>
 

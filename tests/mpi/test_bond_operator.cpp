@@ -1,9 +1,9 @@
 // The bond operator (-solver_operator bonds) against the assembled K: the
 // same product on a random lattice, also after ruptures and pinned nodes, and
 // the same solve (E_eff, iterations).  Runs at 1 and 2 ranks.
-#include "lem/elastic_system.hpp"
-#include "lem/error.hpp"
-#include "lem/setup.hpp"
+#include "lem/system/elastic_system.hpp"
+#include "lem/base/error.hpp"
+#include "lem/setup/setup.hpp"
 
 #include "../exact_solver_test.hpp"
 

@@ -3,9 +3,9 @@
 // the ranks of the test; its bonds are exactly the Delaunay edges of its
 // points (CGAL, serially); no two points closer than the minimum
 // separation; its size and coordination those of the serial generator.
-#include "lem/cell_lattice.hpp"
-#include "lem/collective.hpp"
-#include "lem/lattice.hpp"
+#include "lem/lattice/cell_lattice.hpp"
+#include "lem/base/collective.hpp"
+#include "lem/lattice/lattice.hpp"
 
 #include "../world.hpp"
 

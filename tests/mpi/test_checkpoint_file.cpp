@@ -1,7 +1,7 @@
 // The checkpoint file at 1 and 2 ranks: each rank writes the rows of its own
 // nodes and reads those of another partition by node id; a value changed in
 // the file or a non-finite one is refused on every rank with the same message.
-#include "lem/error.hpp"
+#include "lem/base/error.hpp"
 #include "lem/protocol/checkpoint.hpp"
 
 #include "../world.hpp"

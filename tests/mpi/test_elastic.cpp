@@ -1,11 +1,11 @@
 // The distributed elastic system: analytic FCC moduli, energy identity,
 // assembly against a dense reference, in-place stiffness changes, and the
 // same answer on 1 and 2 ranks.  Runs at 1 and 2 ranks.
-#include "lem/elastic_system.hpp"
-#include "lem/inclusions.hpp"
-#include "lem/node_stress.hpp"
-#include "lem/setup.hpp"
-#include "lem/voronoi.hpp"
+#include "lem/system/elastic_system.hpp"
+#include "lem/lattice/inclusions.hpp"
+#include "lem/system/node_stress.hpp"
+#include "lem/setup/setup.hpp"
+#include "lem/lattice/voronoi.hpp"
 
 #include "../exact_solver_test.hpp"
 

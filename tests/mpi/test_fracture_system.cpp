@@ -2,12 +2,12 @@
 // critical bonds of an FCC lattice under tension (analytic), the first step
 // at which one breaks, and the damage ledger's replay.  Runs at 1 and 2
 // ranks: every answer must be the same on both.
-#include "lem/collective.hpp"
-#include "lem/error.hpp"
-#include "lem/elastic_system.hpp"
+#include "lem/base/collective.hpp"
+#include "lem/base/error.hpp"
+#include "lem/system/elastic_system.hpp"
 #include "lem/protocol/break_rule.hpp"
 #include "lem/protocol/damage_ledger.hpp"
-#include "lem/setup.hpp"
+#include "lem/setup/setup.hpp"
 
 #include "../exact_solver_test.hpp"
 

@@ -1,11 +1,11 @@
 // The ground floor at 1 and 2 ranks: an error on some ranks becomes the same
 // error, of the same type, on every rank; the elastic system leaks no PETSc
 // object and no log stage when its constructor throws.
-#include "lem/collective.hpp"
-#include "lem/elastic_system.hpp"
-#include "lem/error.hpp"
-#include "lem/log.hpp"
-#include "lem/setup.hpp"
+#include "lem/base/collective.hpp"
+#include "lem/system/elastic_system.hpp"
+#include "lem/base/error.hpp"
+#include "lem/base/log.hpp"
+#include "lem/setup/setup.hpp"
 
 #include "../world.hpp"
 

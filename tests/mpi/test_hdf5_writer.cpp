@@ -25,8 +25,8 @@
 #include <utility>
 #include <vector>
 
-#include "lem/error.hpp"
-#include "lem/hdf5_writer.hpp"
+#include "lem/base/error.hpp"
+#include "lem/io/hdf5_writer.hpp"
 
 namespace {
 

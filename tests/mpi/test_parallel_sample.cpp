@@ -3,10 +3,10 @@
 // on every rank count that divides the ranks of the test; and the same
 // Voronoi volumes, bridges, phases and statistics as the serial stages
 // (voronoi_volumes, add_matrix) give for its lattice gathered on one rank.
-#include "lem/collective.hpp"
-#include "lem/parallel_sample.hpp"
-#include "lem/sample_file.hpp"
-#include "lem/voronoi.hpp"
+#include "lem/base/collective.hpp"
+#include "lem/sample/parallel_sample.hpp"
+#include "lem/sample/sample_writer.hpp"
+#include "lem/lattice/voronoi.hpp"
 
 #include "../little_sample.hpp"
 #include "../world.hpp"

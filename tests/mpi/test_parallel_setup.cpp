@@ -3,9 +3,9 @@
 // the same bonds (ends, stiffness, strength, phase) by id, the same counts;
 // stiffnesses and strengths to 1e-14 (a, the mean bond length, is summed in
 // another order).
-#include "lem/parallel_setup.hpp"
-#include "lem/collective.hpp"
-#include "lem/setup.hpp"
+#include "lem/setup/parallel_setup.hpp"
+#include "lem/base/collective.hpp"
+#include "lem/setup/setup.hpp"
 
 #include "../world.hpp"
 

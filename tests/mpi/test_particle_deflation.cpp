@@ -4,9 +4,9 @@
 // one, on 1 and 2 ranks, after in-place stiffness changes and pinned nodes;
 // it needs fewer CG iterations; the multigrid inside it is reused like the
 // plain one; a lattice without particles is refused.  Runs at 1 and 2 ranks.
-#include "lem/elastic_system.hpp"
-#include "lem/error.hpp"
-#include "lem/setup.hpp"
+#include "lem/system/elastic_system.hpp"
+#include "lem/base/error.hpp"
+#include "lem/setup/setup.hpp"
 
 #include "../exact_solver_test.hpp"
 

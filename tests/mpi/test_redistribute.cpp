@@ -2,7 +2,7 @@
 // in source order, also when the exchange goes in many small rounds;
 // questions get their answers back in the order asked; row blocks cover
 // every row once.
-#include "lem/redistribute.hpp"
+#include "lem/base/redistribute.hpp"
 
 #include "../world.hpp"
 

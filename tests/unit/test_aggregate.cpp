@@ -1,8 +1,8 @@
 // Matrix bridges and phases: bridge volume against a closed form, pair
 // search against brute force, the phase table and the two void rules on a
 // hand-made two-particle sample, and the calibration of the matrix fraction.
-#include "lem/aggregate.hpp"
-#include "lem/error.hpp"
+#include "lem/sample/aggregate.hpp"
+#include "lem/base/error.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,14 +1,14 @@
 // The ground floor at one rank: phases, the atomic writer, the output
 // folder's lock, manifest and replacement, exit statuses, PETSc handles, the
 // byte serialiser, the cell grid.
-#include "lem/byte_stream.hpp"
-#include "lem/cell_grid.hpp"
-#include "lem/cemented_sample.hpp"
-#include "lem/error.hpp"
-#include "lem/files.hpp"
-#include "lem/petsc_handle.hpp"
-#include "lem/phase.hpp"
-#include "lem/summary.hpp"
+#include "lem/base/byte_stream.hpp"
+#include "lem/base/cell_grid.hpp"
+#include "lem/sample/cemented_sample.hpp"
+#include "lem/base/error.hpp"
+#include "lem/base/files.hpp"
+#include "lem/base/petsc_handle.hpp"
+#include "lem/base/phase.hpp"
+#include "lem/base/summary.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>

@@ -1,7 +1,7 @@
 // A small cemented sample end to end: packing -> cube -> lattice -> Voronoi
 // volumes -> calibrated bridges -> phases.
-#include "lem/cemented_sample.hpp"
-#include "lem/error.hpp"
+#include "lem/sample/cemented_sample.hpp"
+#include "lem/base/error.hpp"
 
 #include "../little_sample.hpp"
 

@@ -1,6 +1,6 @@
 // Appendix-D estimates: the Hashin-Shtrikman formula against the classical
 // bounds and limiting cases.
-#include "lem/effective_medium.hpp"
+#include "lem/sample/effective_medium.hpp"
 
 #include <gtest/gtest.h>
 

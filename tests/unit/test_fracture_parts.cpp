@@ -2,7 +2,7 @@
 // arithmetic, the preconditioner rebuild rule, threshold disorder, the
 // time-left estimate, fingerprints and the checkpoint file format (the
 // byte serialiser under it is tested in test_base).
-#include "lem/error.hpp"
+#include "lem/base/error.hpp"
 #include "lem/protocol/break_rule.hpp"
 #include "lem/protocol/checkpoint.hpp"
 #include "lem/protocol/disorder.hpp"

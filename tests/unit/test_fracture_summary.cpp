@@ -3,7 +3,7 @@
 // written out of the table's order is refused, and the table of
 // docs/reference/outputs.md is the table of the code (LEM_WRITE_DOCS=1
 // rewrites it from the code).
-#include "lem/fracture_summary.hpp"
+#include "lem/run/fracture_summary.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,10 +1,10 @@
 // Lattice stage: random and FCC generators, affine moduli, inclusions,
 // partition and tension constraints (all serial).
-#include "lem/error.hpp"
-#include "lem/inclusions.hpp"
-#include "lem/lattice.hpp"
-#include "lem/partition.hpp"
-#include "lem/tension.hpp"
+#include "lem/base/error.hpp"
+#include "lem/lattice/inclusions.hpp"
+#include "lem/lattice/lattice.hpp"
+#include "lem/system/partition.hpp"
+#include "lem/system/tension.hpp"
 
 #include <gtest/gtest.h>
 

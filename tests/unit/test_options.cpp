@@ -1,7 +1,7 @@
 // OptionGroup: parsing and checks of every value type, the registry behind
 // -help and the provenance, and the option-name checks.
-#include "lem/error.hpp"
-#include "lem/options.hpp"
+#include "lem/base/error.hpp"
+#include "lem/base/options.hpp"
 
 #include <gtest/gtest.h>
 #include <petscksp.h>

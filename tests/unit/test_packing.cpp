@@ -1,7 +1,7 @@
 // Packing stage: jammed periodic packings, the cubic sample cut out of one,
 // and the clipped sphere volume (all serial).
-#include "lem/error.hpp"
-#include "lem/packing.hpp"
+#include "lem/base/error.hpp"
+#include "lem/packing/packing.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,10 +1,10 @@
 // The cemented sample file: an exact round trip, and one clear InputError
 // for every kind of wrong file.
-#include "lem/cemented_sample.hpp"
-#include "lem/error.hpp"
-#include "lem/hdf5_util.hpp"
-#include "lem/hdf5_writer.hpp"
-#include "lem/sample_file.hpp"
+#include "lem/sample/cemented_sample.hpp"
+#include "lem/base/error.hpp"
+#include "lem/io/hdf5_util.hpp"
+#include "lem/io/hdf5_writer.hpp"
+#include "lem/sample/sample_writer.hpp"
 
 #include <gtest/gtest.h>
 #include <hdf5.h>

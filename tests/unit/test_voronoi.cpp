@@ -1,9 +1,9 @@
 // Box-clipped Voronoi volumes: exact cells (box, bisector halves, grids,
 // degenerate planes through cell vertices) and the partition of unity on
 // random Delaunay lattices.
-#include "lem/error.hpp"
-#include "lem/lattice.hpp"
-#include "lem/voronoi.hpp"
+#include "lem/base/error.hpp"
+#include "lem/lattice/lattice.hpp"
+#include "lem/lattice/voronoi.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,5 +1,5 @@
 """Bond phases of a cemented sample, in the order of the C++ enum lem::Phase
-(include/lem/phase.hpp), which is also the order of phase ids in files."""
+(include/lem/base/phase.hpp), which is also the order of phase ids in files."""
 
 PHASES = ("p", "m", "v", "pp", "pm")
 

@@ -12,7 +12,7 @@
 // re-solve instead (docs/model/fracture.md, "Near-ties and the rank count").
 #pragma once
 
-#include "lem/distributed_lattice.hpp"
+#include "lem/system/distributed_lattice.hpp"
 #include "lem/protocol/options.hpp"
 
 #include <cstdint>

@@ -1,4 +1,4 @@
-// Checkpoints of a fracture run (the signals that ask for one: lem/stop.hpp).
+// Checkpoints of a fracture run (the signals that ask for one: lem/base/stop.hpp).
 //
 // A checkpoint holds the state at the last equilibrium (counters, the damage
 // history, displacements by lattice node id) and a fingerprint of the sample
@@ -10,7 +10,7 @@
 // count reads it by id; it is written whole or not at all.
 #pragma once
 
-#include "lem/distributed_lattice.hpp"
+#include "lem/system/distributed_lattice.hpp"
 #include "lem/protocol/damage_ledger.hpp"
 #include "lem/protocol/options.hpp"
 #include "lem/protocol/state.hpp"

@@ -7,8 +7,8 @@
 // stream from one build to the next.
 #pragma once
 
-#include "lem/distributed_lattice.hpp"
-#include "lem/elastic_system.hpp"
+#include "lem/system/distributed_lattice.hpp"
+#include "lem/system/elastic_system.hpp"
 
 #include <cstdint>
 #include <unordered_map>

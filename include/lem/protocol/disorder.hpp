@@ -2,7 +2,7 @@
 // depends only on (seed, bond id), so it is the same on every rank count.
 #pragma once
 
-#include "lem/distributed_lattice.hpp"
+#include "lem/system/distributed_lattice.hpp"
 #include "lem/protocol/options.hpp"
 
 #include <cstdint>

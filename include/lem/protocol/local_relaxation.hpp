@@ -24,7 +24,7 @@
 
 #include "lem/protocol/relaxation.hpp"
 
-#include "lem/cell_grid.hpp"
+#include "lem/base/cell_grid.hpp"
 
 #include <vector>
 

@@ -1,7 +1,7 @@
 // Fracture options, read once per run into plain values.
 #pragma once
 
-#include "lem/phase.hpp"
+#include "lem/base/phase.hpp"
 
 #include <mpi.h>
 

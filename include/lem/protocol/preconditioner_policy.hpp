@@ -5,7 +5,7 @@
 // first relaxation solve after the last build.
 #pragma once
 
-#include "lem/elastic_system.hpp"
+#include "lem/system/elastic_system.hpp"
 #include "lem/protocol/damage_ledger.hpp"
 #include "lem/protocol/state.hpp"
 

@@ -9,12 +9,12 @@
 // sync, finish), before anything is renamed.
 #pragma once
 
-#include "lem/distributed_lattice.hpp"
-#include "lem/elastic_system.hpp"
+#include "lem/system/distributed_lattice.hpp"
+#include "lem/system/elastic_system.hpp"
 #include "lem/protocol/break_rule.hpp"
 #include "lem/protocol/options.hpp"
 #include "lem/protocol/state.hpp"
-#include "lem/hdf5_writer.hpp"
+#include "lem/io/hdf5_writer.hpp"
 
 #include <cstdint>
 #include <cstdio>

@@ -7,7 +7,7 @@
 // and the summary name it like the others.
 #pragma once
 
-#include "lem/options.hpp"
+#include "lem/base/options.hpp"
 #include "lem/protocol/break_rule.hpp"
 #include "lem/protocol/relaxation.hpp"
 

@@ -6,8 +6,8 @@
 // against.
 #pragma once
 
-#include "lem/distributed_lattice.hpp"
-#include "lem/elastic_system.hpp"
+#include "lem/system/distributed_lattice.hpp"
+#include "lem/system/elastic_system.hpp"
 #include "lem/protocol/break_rule.hpp"
 #include "lem/protocol/damage_ledger.hpp"
 #include "lem/protocol/options.hpp"
@@ -15,7 +15,7 @@
 #include "lem/protocol/progress.hpp"
 #include "lem/protocol/recorder.hpp"
 #include "lem/protocol/state.hpp"
-#include "lem/pieces.hpp"
+#include "lem/system/pieces.hpp"
 
 #include <cstdint>
 #include <functional>
