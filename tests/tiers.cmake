@@ -28,6 +28,7 @@ set(LEM_LONG_TESTS
   fracture_ranks_mini_reference   # fracture_ranks_reference
   fracture_no_whole_gathers       # test_checkpoint_file_np2, fracture_restart_ranks
   fracture_parallel_setup         # test_parallel_setup_np2, _np3
+  fracture_spec_mini_parallel     # fracture_spec_mini, test_parallel_setup_np2 (ids and a of both set-ups)
   outputs_commit_kill             # fracture_restart_kill, outputs_keep_finished
   outputs_disk_full_sizes         # outputs_disk_full, outputs_disk_full_overwrite
   outputs_overwrite_kill          # outputs_keep_finished, outputs_rerun

@@ -166,7 +166,7 @@ void LocalRelaxation::check_patch_error(std::int64_t step,
 }
 
 RelaxationOutcome LocalRelaxation::relax(std::int64_t step, double top_displacement,
-                                         double strain, double stress_before) {
+                                         double strain, double /*stress_before*/) {
   RelaxationOutcome out;
   for (;;) {
     next_cycle(step, out);
@@ -184,7 +184,7 @@ RelaxationOutcome LocalRelaxation::relax(std::int64_t step, double top_displacem
       break;
     }
     if (!patch_tensions.empty()) check_patch_error(step, patch_tensions);
-    if (stress_fell(stress_before)) break;  // the run ends after this step
+    if (stress_fell()) break;  // the run ends after this step
   }
   if (out.broken > 0) p_.recorder.flush_ruptures();
   return out;

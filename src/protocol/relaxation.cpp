@@ -137,10 +137,15 @@ void Relaxation::restore_state(const std::string& bytes) {
                              " bytes where the scheme keeps none");
 }
 
-bool Relaxation::stress_fell(double stress_before) const {
-  return p_.options.stop_within_step &&
-         p_.system.response().stress_zz <
-             p_.options.stop_fraction * std::max(p_.tally.peak_stress, stress_before);
+bool Relaxation::stress_fell() const {
+  // The level at which the run ends (Protocol::end_reason): the fraction of
+  // the curve's peak, that is of the equilibria of the steps before this one
+  // (a step whose stress falls is no peak).  Not of the stress before the
+  // step's ruptures, which is no equilibrium of the curve: a step stopped
+  // below that level but above the run's would end with bonds still over
+  // their thresholds, broken at the next step.
+  return p_.options.stop_within_step && p_.tally.peak_stress > 0 &&
+         p_.system.response().stress_zz < p_.options.stop_fraction * p_.tally.peak_stress;
 }
 
 void Relaxation::next_cycle(std::int64_t step, const RelaxationOutcome& out) const {
@@ -148,7 +153,7 @@ void Relaxation::next_cycle(std::int64_t step, const RelaxationOutcome& out) con
 }
 
 RelaxationOutcome GlobalRelaxation::relax(std::int64_t step, double top_displacement,
-                                          double strain, double stress_before) {
+                                          double strain, double /*stress_before*/) {
   RelaxationOutcome out;
   for (;;) {
     next_cycle(step, out);
@@ -164,9 +169,9 @@ RelaxationOutcome GlobalRelaxation::relax(std::int64_t step, double top_displace
       out.disconnected = true;
       break;
     }
-    if (stress_fell(stress_before)) {  // the run ends after this step, on an equilibrium
+    if (stress_fell()) {  // the run ends after this step, on an equilibrium
       if (solved.stopped_early) p_.solver.solve(top_displacement, true);
-      if (stress_fell(stress_before)) break;
+      if (stress_fell()) break;
     }
   }
   if (out.broken > 0) {

@@ -41,6 +41,7 @@ struct Case {
   FractureResult result;
   SetupReport setup;
   double stress_unit = 1;
+  double lattice_a = 0;  // a (DistributedLattice::mean_bond_length)
 };
 
 Prepared prepare(MPI_Comm comm, const SampleOptions& sample, double break_strain,
@@ -70,6 +71,7 @@ Case run_case(Prepared p, const SolverOptions& solver, const FractureOptions& op
               bool registered_outputs) {
   Case c;
   c.setup = p.setup;
+  c.lattice_a = p.lattice.mean_bond_length;
   c.stress_unit = output.stress_unit = p.stress_unit;
   DistributedLattice& lattice = p.lattice;
   say("lattice: %lld nodes, %lld bonds in the system, a = %.4g; output %s/\n",
@@ -233,6 +235,7 @@ Summary fracture_summary(MPI_Comm comm, const SampleOptions& sample, const Fract
   };
   count("nodes", c.setup.sample.stats.nodes);
   count("active_bonds", c.setup.active_bonds);
+  d.put("mean_bond_length", c.lattice_a);
   d.put("increment_over_a", o.increment);
   d.put("break_rule", o.break_rule);
   d.put("sigma_unit", units.strength_unit);
@@ -281,6 +284,7 @@ Summary fracture_summary(MPI_Comm comm, const SampleOptions& sample, const Fract
   count("solves_stepping_estimate", r.steps + r.relaxation_cycles);
   d.put("work", r.work);
   d.put("stored_energy", r.stored_energy);
+  d.put("ground_energy", r.ground_energy);
   d.put("released_energy", r.released_energy);
   d.put("energy_balance_error", r.energy_balance_error);
   d.put("end_reason", r.end_reason);

@@ -7,7 +7,10 @@ const std::vector<SummaryField>& fracture_summary_fields() {
       {"sample_file", "", "the sample file (empty for a generated lattice)"},
       {"nodes", "", "nodes of the lattice"},
       {"active_bonds", "", "bonds in the system (void bonds of sample files excluded)"},
-      {"increment_over_a", "", "load increment per step over the mean bond length a"},
+      {"mean_bond_length", "length", "a: the mean length of the lattice's elements (a sample "
+                                     "file's: every row of `/bonds`, void bonds included); "
+                                     "k = E^φ a, f = σ^φ a² and the load increment are in it"},
+      {"increment_over_a", "", "load increment per step over a"},
       {"break_rule", "", "`-fracture_break_rule`"},
       {"sigma_unit", "stress", "the stress unit of the curve: `-fracture_sigma_unit` if given, "
                                "else σ^[p] if calibrated, else σ^p (sample files) or 1"},
@@ -53,9 +56,12 @@ const std::vector<SummaryField>& fracture_summary_fields() {
       {"solves_stepping_estimate", "", "steps + relaxation cycles: the solves of a run without "
                                        "idle skipping"},
       {"work", "lattice", "external work W at the end (lattice units k a²)"},
-      {"stored_energy", "lattice", "stored elastic energy E at the end"},
-      {"released_energy", "lattice", "energy R released by ruptures"},
-      {"energy_balance_error", "", "\\|W − E − R\\| / W"},
+      {"stored_energy", "lattice", "elastic energy E stored in the bonds at the end"},
+      {"ground_energy", "lattice", "energy G held by the ground springs "
+                                   "(`-lattice_ground_stiffness`) at the end"},
+      {"released_energy", "lattice", "energy R released by the relaxations (bonds and ground "
+                                     "springs; dissipated by the ruptures)"},
+      {"energy_balance_error", "", "\\|W − E − G − R\\| / W: the solver's error"},
       {"end_reason", "", "why the run ended ([fracture](../model/fracture.md), \"Loose pieces "
                          "and the end of a run\")"},
       {"warnings", "", "`code:count` words, `calibration_` prefixed for the calibration's; "

@@ -199,10 +199,15 @@ Lattice mechanical_lattice(const CementedSample& sample, const PhaseTable& table
   l.nodes = sample.lattice.nodes;
   l.node_volume = sample.node_volume;
   l.node_particle = sample.node_phases.particle;
+  // One a for k, f and the load increment: the mean length of every bond of
+  // the file, void ones included (they are elements of the lattice).
+  const double a = ls.mean_length;
+  l.element_length = a;
   for (std::size_t b = 0; b < sample.lattice.bond_count(); ++b) {
     const int phase = static_cast<int>(sample.bond_phase[b]);
-    const double a = ls.mean_length, k = table.modulus[phase] * a;
+    const double k = table.modulus[phase] * a;
     if (sample.bond_phase[b] == Phase::v || k <= 0) continue;
+    l.bond_id.push_back(static_cast<std::int64_t>(b));  // the row of /bonds
     l.bonds.push_back(sample.lattice.bonds[b]);
     l.stiffness.push_back(k);
     l.strength.push_back(table.strength[phase] * a * a);

@@ -112,7 +112,6 @@ struct LengthSums {
 // stiffness, strength and mechanical id; the lattice statistics.
 struct BlockBonds {
   std::vector<BondRecord> bonds;
-  double mean_kept_length = 0;  // over the mechanical bonds: the load step's unit
   std::int64_t kept = 0;        // mechanical bonds, all ranks
   SampleInfo info;
 };
@@ -127,15 +126,16 @@ BlockBonds mechanical_bonds(MPI_Comm comm, const SampleBlock& block, const Sampl
   out.info.cemented = block.description.sample.stats;
 
   // The mechanical lattice: void bonds and bonds of zero stiffness dropped,
-  // the others numbered in file order (mechanical_lattice's ids).
+  // the others keep their file row as id (mechanical_lattice's ids); a is
+  // the mean length of every bond of the file (mechanical_lattice's a).
   const double a = s.mean_length;
-  LengthSums kept_length;
   for (std::size_t k = 0; k < block.ends.size(); ++k) {
     const Phase phase = o.homogeneous ? Phase::p : block.bond_phase[k];
     const int code = static_cast<int>(phase);
     const double stiffness = o.phases.modulus[code] * a;
     if (phase == Phase::v || stiffness <= 0) continue;
     BondRecord r{};
+    r.id = block.bond_begin + static_cast<std::int64_t>(k);  // the row of /bonds
     r.i = block.ends[k][0];
     r.j = block.ends[k][1];
     r.xi = block.end_coords[k][0];
@@ -148,16 +148,10 @@ BlockBonds mechanical_bonds(MPI_Comm comm, const SampleBlock& block, const Sampl
       r.k *= share;
       r.f *= share;
     }
-    kept_length.add(r.xi, r.xj);
     add_affine_bond(out.info.affine, r.xi, r.xj, r.k, box.volume());
     out.bonds.push_back(r);
   }
-  const std::int64_t first_id = exclusive_prefix(comm, static_cast<std::int64_t>(out.bonds.size()));
-  for (std::size_t k = 0; k < out.bonds.size(); ++k)
-    out.bonds[k].id = first_id + static_cast<std::int64_t>(k);
   out.kept = sum_over_ranks(comm, static_cast<std::int64_t>(out.bonds.size()));
-  out.mean_kept_length =
-      out.kept > 0 ? kept_length.sum.all_ranks(comm).value() / static_cast<double>(out.kept) : 0.0;
   MPI_Allreduce(MPI_IN_PLACE, &out.info.affine.C[0][0], 36, MPI_DOUBLE, MPI_SUM, comm);
   finish_affine_moduli(out.info.affine);
   return out;
@@ -348,7 +342,7 @@ DistributedLattice distribute(MPI_Comm comm, const NodeBlock& block,
 // Steps 3-5, from this rank's nodes and bonds.
 DistributedLattice partition_and_constrain(MPI_Comm comm, const NodeBlock& nodes,
                                            std::vector<BondRecord>& bonds,
-                                           double mean_kept_length, SetupReport& report) {
+                                           double a, SetupReport& report) {
   double t = MPI_Wtime();
   const CellOwners owners(comm, nodes, bonds);
   report.seconds_partition = MPI_Wtime() - t;
@@ -356,7 +350,7 @@ DistributedLattice partition_and_constrain(MPI_Comm comm, const NodeBlock& nodes
   t = MPI_Wtime();
   std::vector<int> ghost_owner;
   DistributedLattice dl = distribute(comm, nodes, bonds, owners, ghost_owner);
-  dl.mean_bond_length = mean_kept_length;
+  dl.mean_bond_length = a;
   bonds.clear();
   bonds.shrink_to_fit();
   report.seconds_distribute = MPI_Wtime() - t;
@@ -390,7 +384,7 @@ DistributedLattice setup_sample_in_parallel(MPI_Comm comm, const SampleOptions& 
   block = SampleBlock{};
   report.seconds_build = MPI_Wtime() - t;
   DistributedLattice dl =
-      partition_and_constrain(comm, nodes, bonds.bonds, bonds.mean_kept_length, report);
+      partition_and_constrain(comm, nodes, bonds.bonds, bonds.info.stats.mean_length, report);
   stage.pop();
   return dl;
 }

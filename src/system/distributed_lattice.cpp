@@ -112,7 +112,8 @@ Piece make_piece(int r, const Lattice& lattice, const TensionConstraints& tc,
   for (auto b : rank_bonds) {
     const auto& bond = lattice.bonds[b];
     piece.bond_ends.push_back({local(bond.i), local(bond.j)});
-    piece.bond_id.push_back(b);
+    piece.bond_id.push_back(lattice.bond_id.empty() ? static_cast<std::int64_t>(b)
+                                                    : lattice.bond_id[b]);
     piece.bond_stiffness.push_back(lattice.stiffness[b]);
     if (!lattice.strength.empty()) piece.bond_strength.push_back(lattice.strength[b]);
     if (!lattice.tag.empty()) piece.bond_tag.push_back(lattice.tag[b]);
@@ -150,8 +151,10 @@ DistributedLattice distribute_lattice(MPI_Comm comm, const Lattice& lattice,
       for (std::size_t b = 0; b < lattice.bond_count(); ++b) length_sum += lattice.bond_length(b);
       std::int64_t active = 0;
       for (char a : constraints.bond_active) active += a;
-      header[0] =
-          length_sum / static_cast<double>(std::max<std::size_t>(1, lattice.bond_count()));
+      // a: the lattice's own, or that of the elements it was cut from.
+      header[0] = lattice.element_length > 0
+                      ? lattice.element_length
+                      : length_sum / static_cast<double>(std::max<std::size_t>(1, lattice.bond_count()));
       header[1] = static_cast<double>(lattice.node_count());
       header[2] = static_cast<double>(active);
       for (int a = 0; a < 3; ++a) {

@@ -105,24 +105,30 @@ std::vector<Point> ElasticSystem::owned_displacements() const {
 
 TensionResponse ElasticSystem::response() const {
   const DistributedLattice& l = lattice_;
-  // sums: reaction, energy.
-  double sums[2] = {};
+  // sums: reaction, energy of the bonds, energy of the ground springs.
+  double sums[3] = {};
   for_each_bond_stretch(l, u_, [&](int b, const double* n, double stretch) {
     const double k = l.bond_stiffness[b], tension = k * stretch;
     if (l.bond_reported[b]) sums[1] += 0.5 * k * stretch * stretch;
     sums[0] += top_load_share(l, b, n, tension);
   });
-  double totals[2];
-  MPI_Allreduce(sums, totals, 2, MPI_DOUBLE, MPI_SUM, l.comm);
   const PetscScalar* u = nullptr;
   LEM_PETSC(VecGetArrayRead(u_, &u));
+  // The ground spring of every free degree of freedom of an owned node
+  // (-lattice_ground_stiffness), as the matrix and the bond operator hold it.
+  for (int n = 0; n < l.owned; ++n)
+    for (int a = 0; a < 3; ++a)
+      if (!is_fixed(l.dof_flags[n], a)) sums[2] += 0.5 * ground_ * u[3 * n + a] * u[3 * n + a];
   const LateralStrain lateral = lateral_strains(l, u);
   LEM_PETSC(VecRestoreArrayRead(u_, &u));
+  double totals[3];
+  MPI_Allreduce(sums, totals, 3, MPI_DOUBLE, MPI_SUM, l.comm);
 
   TensionResponse r;
   r.top_displacement = current_displacement_;
   r.reaction = totals[0];
   r.stored_energy = totals[1];
+  r.ground_energy = totals[2];
   r.external_work = 0.5 * r.reaction * current_displacement_;
   r.stress_zz = r.reaction / (l.box.length(0) * l.box.length(1));
   r.strain_zz = current_displacement_ / l.box.length(2);

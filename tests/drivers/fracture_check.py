@@ -18,6 +18,14 @@
       id of broken.csv), naming the first rupture that differs, and their
       curves agree within TOL of the peak as functions of the strain (their
       evaluated steps may differ), within TOL2 up to the peak.
+  fracture_check.py spec --run "CMD" --dir D [--energy-bound B] -- args
+      runs CMD with args (a sample file's run with its calibration) and checks
+      its outputs against the sample file and docs/model/fracture.md: one a
+      for thresholds and the load increment (the mean length of every row of
+      /bonds), bond ids that are rows of /bonds (broken.csv, fields.h5,
+      elastic.h5), the energy balance W = E + G + R, and the calibration's
+      stop (no step ends with a bond over its threshold; the last is the
+      first whose stress is below 0.9 of the peak).
 
 LEM_TEST_EXTRA_ARGS (environment) is appended to the command line of fcc and
 gold runs: it exists to show that a test fails on a changed protocol, e.g.
@@ -323,6 +331,90 @@ def ruptures(a):
                  f"or {a.tol:g} in all")
 
 
+# ---------------------------------------------------------------- spec
+def option_values(args):
+    """-name value pairs of a command line."""
+    return {args[i]: args[i + 1] for i in range(len(args) - 1) if args[i].startswith("-")}
+
+
+def spec(a):
+    """A sample file's run against the sample file and the documented rules."""
+    import h5py  # here: the other checks run without it
+    run(a.run, a.dir, a.args)
+    options = option_values(a.args)
+    with h5py.File(options["-sample_file"], "r") as f:
+        ends = f["bonds/connectivity"][:]
+        phase = f["bonds/phase"][:]
+        xyz = f["nodes/coordinates"][:]
+        height = f.attrs["box_hi"][2] - f.attrs["box_lo"][2]
+    length = np.linalg.norm(xyz[ends[:, 1]] - xyz[ends[:, 0]], axis=1)
+    mean_length = length.mean()  # the paper's a: every element, void bonds included
+    check = Checker()
+    s = read_summary(a.dir)
+
+    # 1. One a: the summary's, the load increment's and the thresholds'.
+    check.close("a = mean length of /bonds", s.get("mean_bond_length", math.nan), mean_length,
+                rtol=1e-9)
+    curve = read_curve(a.dir)
+    check.close("strain per load step / (3e-4 a / H)", curve["strain"][0] / curve["step"][0],
+                s["increment_over_a"] * mean_length / height, rtol=1e-9)
+    sigma = {"p": 0.01, "m": 0.01, "pp": 0.0, "pm": 0.006}  # the defaults (docs/model)
+    for name in sigma:
+        sigma[name] = float(options.get(f"-phase_sigma_{name}", sigma[name]))
+    broken = read_broken(a.dir)
+    worst = max(abs(float(r["threshold"]) - sigma[r["phase"]] * mean_length ** 2) /
+                (sigma["p"] * mean_length ** 2) for r in broken)
+    check.at_most("thresholds f - sigma a^2, of f^p", worst, 1e-12)
+
+    # 2. Bond ids are rows of the sample's /bonds: the same phase and ends.
+    names = ("p", "m", "v", "pp", "pm")  # tools/lem_tools/phases.py
+    rows = np.array([int(r["bond_id"]) for r in broken])
+    inside = (rows >= 0) & (rows < len(ends))
+    check.equal("broken.csv bond ids in /bonds", int(inside.sum()), len(rows))
+    rows = rows[inside]
+    middle = 0.5 * (xyz[ends[rows, 0]] + xyz[ends[rows, 1]])
+    given = np.array([[float(r[k]) for k in "xyz"] for r, ok in zip(broken, inside) if ok])
+    joined = np.all(np.abs(middle - given) <= 1e-7 * height, axis=1)
+    joined &= np.array([names[phase[i]] == r["phase"] for i, r in zip(rows, broken)])
+    check.equal("ruptures joined to /bonds (midpoint, phase)", int(joined.sum()), len(broken))
+    for stem in ("fields", "elastic"):
+        with h5py.File(os.path.join(a.dir, stem + ".h5"), "r") as f:
+            ids = f["bonds/id"][:]
+            node_ids = f["nodes/id"][:][f["bonds/connectivity"][:]]
+        same = np.sort(node_ids, axis=1) == np.sort(ends[ids], axis=1)
+        check.equal(f"{stem}.h5 bonds whose ends are their /bonds row's",
+                    int(np.all(same, axis=1).sum()), len(ids))
+
+    # 3. The energy balance: W = E + G + R, G the ground springs'.
+    ground = s.get("ground_energy", math.nan)
+    check.at_least("ground_energy / work", ground / s["work"], 1e-12)
+    balance = abs(s["work"] - s["stored_energy"] - ground - s["released_energy"]) / s["work"]
+    check.close("|W - E - G - R| / W as the summary's", balance, s["energy_balance_error"],
+                atol=1e-9)  # the summary's 10 digits
+    check.at_most("energy_balance_error", s["energy_balance_error"], a.energy_bound)
+
+    # 4. The calibration stops where docs/model/fracture.md says: in the
+    # first load step whose stress falls below 0.9 of the peak, and every
+    # step before it ends with no bond over its threshold.  A bond broken in
+    # the first cycle of step n had, at step n - 1 (the same damage, the
+    # field scaled by (n - 1)/n), the force force (n - 1)/n.
+    cal = os.path.join(a.dir, "calibration")
+    c = read_curve(cal)
+    level, top = 0.9 * c["stress_norm"].max(), int(np.argmax(c["stress_norm"]))
+    check.equal("calibration steps after the peak below 0.9 of it",
+                [int(n) for n in c["step"][top:][c["stress_norm"][top:] < level]],
+                [int(c["step"][-1])])
+    late = [r for r in read_broken(cal) if r["cycle"] == "0" and int(r["step"]) > 1 and
+            float(r["force"]) * (int(r["step"]) - 1) / int(r["step"]) >
+            float(r["threshold"]) * (1 + 1e-4)]
+    for r in late[:3]:
+        print(f"     over its threshold at step {int(r['step']) - 1}: bond {r['bond_id']}, "
+              f"force {float(r['force']) * (int(r['step']) - 1) / int(r['step']):.6e}, "
+              f"threshold {float(r['threshold']):.6e}")
+    check.equal("calibration bonds left over threshold", len(late), 0)
+    check.finish()
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     sub = p.add_subparsers(dest="what", required=True)
@@ -356,6 +448,12 @@ def main():
     q.add_argument("tol", type=float)
     q.add_argument("--pre-peak", type=float, default=math.inf)
     q.set_defaults(func=ruptures)
+    q = sub.add_parser("spec")
+    q.add_argument("--run", required=True)
+    q.add_argument("--dir", required=True)
+    q.add_argument("--energy-bound", type=float, default=1e-6)
+    q.add_argument("args", nargs="*")
+    q.set_defaults(func=spec)
     a = p.parse_args()
     a.func(a)
 

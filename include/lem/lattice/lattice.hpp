@@ -1,8 +1,10 @@
 // Lattice stage: node coordinates and the bond list, built on one rank.
 //
 // A Lattice is plain data.  Bonds are unique pairs (i < j) sorted
-// lexicographically; a bond's index in that list is its global id, which never
-// depends on how the lattice is later partitioned.
+// lexicographically; a bond's global id is its index in that list, or its
+// entry of `bond_id` when the lattice was cut from a larger list (a sample
+// file's mechanical bonds), and never depends on how the lattice is later
+// partitioned.
 #pragma once
 
 #include "lem/base/geometry.hpp"
@@ -37,6 +39,16 @@ struct Lattice {
   /// -1 outside every particle (cemented samples); the solver's
   /// per-particle coarse space (-solver_particle_deflation) is built on it.
   std::vector<std::int32_t> node_particle;
+  /// Optional per bond (empty, or one per bond): the bond's id in every
+  /// output, when the lattice was cut from a larger list of bonds (the
+  /// mechanical bonds of a sample file: the bond's row of its /bonds).
+  /// Empty: the bond's index.  Increasing, so the order of ids is the
+  /// order of the list.
+  std::vector<std::int64_t> bond_id;
+  /// The paper's a, "the average length of the elements" (sect. 2.2), when
+  /// the lattice was cut from a larger list of elements (a sample file's
+  /// void bonds are elements too).  0: the mean length of its own bonds.
+  double element_length = 0;
 
   std::size_t node_count() const { return nodes.size(); }
   std::size_t bond_count() const { return bonds.size(); }

@@ -43,8 +43,9 @@ namespace lem {
 
 struct FractureResult : FractureTally {
   double final_stress = 0, final_strain = 0;
-  double stored_energy = 0;
-  double energy_balance_error = 0;  // |W - E - R| / W
+  double stored_energy = 0;         // E: the bonds'
+  double ground_energy = 0;         // G: the ground springs' (-lattice_ground_stiffness)
+  double energy_balance_error = 0;  // |W - E - G - R| / W
   double peak_step = 0;             // load step of the peak stress (strain / step strain)
   std::string end_reason;
   double seconds = 0;

@@ -99,8 +99,9 @@ class Relaxation {
   /// options.tie_rtol first; on a decided field, the bonds its certificate
   /// decides, after a decided solve where it decides nothing.  Collective.
   std::vector<Rupture> next_batch(double top_displacement);
-  /// options.stop_within_step and the stress has fallen below the stop level.
-  bool stress_fell(double stress_before) const;
+  /// options.stop_within_step and the stress has fallen below the stop
+  /// level: stop_fraction of the curve's peak, the level of end_reason.
+  bool stress_fell() const;
   /// Before every cycle but the first: RelaxationParts::between_cycles.
   void next_cycle(std::int64_t step, const RelaxationOutcome& out) const;
 

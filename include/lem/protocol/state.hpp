@@ -29,7 +29,7 @@ struct FractureTally {
   std::int64_t detached_bonds = 0, pinned_nodes = 0;
   std::int64_t pieces = 1;         // connected pieces of unpinned nodes
   double work = 0;                 // external work, trapezoidal rule over the curve
-  double released_energy = 0;      // stored energy lost in relaxations
+  double released_energy = 0;      // energy lost in relaxations (bonds and ground springs)
   std::int64_t broken_total() const;
   double particle_damage() const;  // n_b: broken p bonds / broken bonds
 };

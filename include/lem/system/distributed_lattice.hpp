@@ -20,7 +20,8 @@ namespace lem {
 struct DistributedLattice {
   MPI_Comm comm = MPI_COMM_NULL;
   Box box;
-  double mean_bond_length = 0;    // a, over all bonds of the lattice
+  double mean_bond_length = 0;    // a: the mean length of the lattice's elements
+                                  // (a sample file's: every row of /bonds, voids too)
   std::int64_t global_nodes = 0;
   std::int64_t global_bonds = 0;  // active bonds in the system
   std::int64_t node_begin = 0;    // owned block [node_begin, node_begin + owned)
@@ -37,7 +38,7 @@ struct DistributedLattice {
 
   // Per local bond.
   std::vector<std::array<int, 2>> bond_ends;  // local node indices
-  std::vector<std::int64_t> bond_id;          // lattice bond id
+  std::vector<std::int64_t> bond_id;          // lattice bond id (a sample file's /bonds row)
   std::vector<double> bond_stiffness;         // current k (0 once broken)
   std::vector<double> bond_strength;          // breaking force (empty: lattice had none)
   std::vector<std::uint8_t> bond_tag;         // e.g. phase (empty: lattice had none)

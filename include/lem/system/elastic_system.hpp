@@ -58,6 +58,7 @@ struct TensionResponse {
   double young_modulus = 0;     // stress_zz / strain_zz
   double poisson_ratio = 0;     // -(strain_xx + strain_yy) / (2 strain_zz)
   double stored_energy = 0;     // 1/2 sum_bonds k (stretch)^2
+  double ground_energy = 0;     // 1/2 sum_free dofs g u^2: the ground springs (g = ground_)
   double external_work = 0;     // 1/2 reaction * Delta
 };
 
