@@ -93,8 +93,11 @@ const CurveColumn kCurveColumns[] = {
     {"iterations", "Krylov iterations so far (count)"},
     {"pc_builds", "preconditioner builds so far (count)"},
     {"work", "external work (lattice units k a^2)"},
-    {"stored_energy", "elastic energy (lattice units k a^2)"},
-    {"released_energy", "energy released by ruptures (lattice units k a^2)"},
+    {"stored_energy", "elastic energy of the bonds (lattice units k a^2)"},
+    {"released_energy", "energy released by the relaxations, bonds and ground springs "
+                        "(lattice units k a^2)"},
+    {"ground_energy", "energy of the ground springs (lattice units k a^2); "
+                      "work = stored + released + ground"},
     {"idle", "1 for an idle step (scaled, no solve), 0 for an evaluated one"},
     {"elapsed_s", "wall time since the start (s)"},
 };
@@ -194,14 +197,14 @@ void FractureRecorder::curve_row(std::int64_t step, const TensionResponse& r,
   if (rank_ != 0) return;
   const double su = output_.stress_unit, norm = su / output_.strength_unit;
   curve_.print("%lld,%.12e,%.12e,%.12e,%.12e,%.12e,%lld,%lld,%lld,%lld,%lld,%.6f,%d,%lld,%lld,"
-               "%lld,%lld,%.12e,%.12e,%.12e,%d,%.3f\n",
+               "%lld,%lld,%.12e,%.12e,%.12e,%.12e,%d,%.3f\n",
                (long long)step, r.strain_zz, r.top_displacement / lattice_.mean_bond_length,
                stress_before * norm, r.stress_zz * norm, r.stress_zz * su,
                (long long)t.broken_total(), (long long)t.broken[0], (long long)t.broken[1],
                (long long)t.broken[3], (long long)t.broken[4], t.particle_damage(), cycles,
                (long long)t.pinned_nodes, (long long)t.solves, (long long)t.iterations,
                (long long)t.preconditioner_builds, t.work, r.stored_energy, t.released_energy,
-               idle ? 1 : 0, elapsed);
+               r.ground_energy, idle ? 1 : 0, elapsed);
   curve_.flush();
 }
 

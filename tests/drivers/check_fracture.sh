@@ -144,7 +144,7 @@ restart_kill|restart_signal)
   run 2 "$work/cut" "${args[@]}" || fail "resumed run: $(tail -3 "$work/cut/log")"
   grep -q "^resumed from" "$work/cut/log" || fail "the rerun did not resume: $(head -3 "$work/cut/log")"
   # Identical apart from the wall-clock column.
-  diff <(cut -d, -f1-21 "$work/whole/curve.csv") <(cut -d, -f1-21 "$work/cut/curve.csv") > /dev/null ||
+  diff <(cut -d, -f1-22 "$work/whole/curve.csv") <(cut -d, -f1-22 "$work/cut/curve.csv") > /dev/null ||
     fail "resumed curve differs from the uninterrupted one"
   cmp -s "$work/whole/broken.csv" "$work/cut/broken.csv" || fail "resumed broken-bond log differs"
   # The relaxation scheme's own counts, carried by the checkpoint.

@@ -73,7 +73,7 @@ pause_kill() {  # pause_kill POINT DIR [extra args]: the same, then SIGKILL ther
   wait "$leader"
 }
 same_result() {  # same_result A B: curve (but the wall time) and log identical
-  diff <(cut -d, -f1-21 "$1/curve.csv") <(cut -d, -f1-21 "$2/curve.csv") > /dev/null ||
+  diff <(cut -d, -f1-22 "$1/curve.csv") <(cut -d, -f1-22 "$2/curve.csv") > /dev/null ||
     fail "$2/curve.csv differs from $1/curve.csv"
   cmp -s "$1/broken.csv" "$2/broken.csv" || fail "$2/broken.csv differs from $1/broken.csv"
   [ -s "$2/manifest.txt" ] || fail "no manifest in $2"

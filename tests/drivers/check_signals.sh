@@ -66,7 +66,7 @@ finish() {  # finish EXPECTED: collect the interrupted run's exit status
   [ "$status" -eq "$1" ] || fail "exit status $status, expected $1: $(grep -v '^step' "$cut_log" | tail -4)"
 }
 same_result() {  # same_result DIR: curve (but the wall time) and log equal the reference's
-  diff <(cut -d, -f1-21 "$ref/curve.csv") <(cut -d, -f1-21 "$1/curve.csv") > /dev/null ||
+  diff <(cut -d, -f1-22 "$ref/curve.csv") <(cut -d, -f1-22 "$1/curve.csv") > /dev/null ||
     fail "$1/curve.csv differs from the uninterrupted run's"
   cmp -s "$ref/broken.csv" "$1/broken.csv" || fail "$1/broken.csv differs from the uninterrupted run's"
   [ -s "$1/manifest.txt" ] || fail "no manifest in $1"

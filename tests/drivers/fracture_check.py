@@ -197,7 +197,7 @@ def fcc(a):
 
 # ---------------------------------------------------------------- gold
 KEPT = ("E_eff", "sigma_eff", "sigma_hom", "E_hom", "strain_at_peak", "final_strain", "work",
-        "energy_balance_error", "n_b", "broken", "broken_p", "broken_m", "broken_pp",
+        "energy_balance_error", "ground_energy", "mean_bond_length", "n_b", "broken", "broken_p", "broken_m", "broken_pp",
         "broken_pm", "steps", "end_reason", "active_bonds", "nodes", "increment_over_a",
         "break_rule")
 
