@@ -111,8 +111,9 @@ FractureOptions read_fracture_options(MPI_Comm comm) {
   {
     OptionGroup g(comm, "Warnings of a degraded result (docs/model/fracture.md, \"Warnings\")");
     o.warn_energy_error = g.real(
-        "-fracture_warn_energy", "Warn when the energy balance error |W - E - R|/W at the end "
-        "exceeds this (converged runs: below 1e-5; a loose -ksp_rtol raises it; 0: no check)",
+        "-fracture_warn_energy", "Warn when the energy balance error |W - E - G - R|/W at "
+        "the end exceeds this (converged runs: below 1e-6; -ksp_rtol 1e-4 gives about 1e-4; "
+        "0: no check)",
         o.warn_energy_error, 0.0, 1.0);
     o.warn_peak_steps = g.integer(
         "-fracture_warn_peak_steps", "Warn when the peak stress is reached before this load "

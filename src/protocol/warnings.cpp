@@ -49,9 +49,9 @@ void RunWarnings::at_end(const FractureTally& tally, double energy_balance_error
   char text[512];
   if (options_.warn_energy_error > 0 && !(energy_balance_error <= options_.warn_energy_error)) {
     std::snprintf(text, sizeof(text),
-                  "the energy balance error |W - E - R|/W = %.2e exceeds -fracture_warn_energy "
-                  "= %g: the solves are not converged enough for the curve and the peak to be "
-                  "trusted; lower -ksp_rtol (default 1e-8)",
+                  "the energy balance error |W - E - G - R|/W = %.2e exceeds "
+                  "-fracture_warn_energy = %g: the solves are not converged enough for the "
+                  "curve and the peak to be trusted; lower -ksp_rtol (default 1e-8)",
                   energy_balance_error, options_.warn_energy_error);
     raise("energy_balance", 1, text);
   }

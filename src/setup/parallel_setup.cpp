@@ -109,7 +109,7 @@ struct LengthSums {
 };
 
 // Steps 1-2: the bonds of this rank's block of rows, checked, with their
-// stiffness, strength and mechanical id; the lattice statistics.
+// stiffness, strength and id (its row of /bonds); the lattice statistics.
 struct BlockBonds {
   std::vector<BondRecord> bonds;
   std::int64_t kept = 0;        // mechanical bonds, all ranks

@@ -152,9 +152,8 @@ DistributedLattice distribute_lattice(MPI_Comm comm, const Lattice& lattice,
       std::int64_t active = 0;
       for (char a : constraints.bond_active) active += a;
       // a: the lattice's own, or that of the elements it was cut from.
-      header[0] = lattice.element_length > 0
-                      ? lattice.element_length
-                      : length_sum / static_cast<double>(std::max<std::size_t>(1, lattice.bond_count()));
+      const double bonds = static_cast<double>(std::max<std::size_t>(1, lattice.bond_count()));
+      header[0] = lattice.element_length > 0 ? lattice.element_length : length_sum / bonds;
       header[1] = static_cast<double>(lattice.node_count());
       header[2] = static_cast<double>(active);
       for (int a = 0; a < 3; ++a) {

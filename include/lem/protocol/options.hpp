@@ -51,7 +51,7 @@ struct FractureOptions {
   // balance error above warn_energy_error, a peak reached before load step
   // warn_peak_steps (0: either check off); strict makes every warning,
   // the fallback solver's included, an error (exit 2).
-  double warn_energy_error = 1e-4;
+  double warn_energy_error = 1e-5;
   std::int64_t warn_peak_steps = 10;
   bool strict = false;
   // Checkpoints (0: never by that criterion); also on SIGTERM / SIGUSR1.
