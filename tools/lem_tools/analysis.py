@@ -14,6 +14,7 @@ K_DAMAGE_LIMIT = 0.7     # eq. 14 frontier of fig. 15
 TAIL_START = 1.0         # s = sigma_zz^i / sigma_zz where the exponential tail starts
 MIN_TAIL_NODES = 20      # fewer nodes in the tail give no meaningful beta
 ZZ = 5                   # Tensor6 order xx, xy, xz, yy, yz, zz
+PDF_BINS = 80            # bins of the node-stress pdf (fig. 8)
 FACE_TOLERANCE = 1e-9    # a node this close to a box face (relative to the side) lies on it
 
 
@@ -72,6 +73,16 @@ def node_stress_statistics(elastic):
         "tail_all_nodes": tail_exponent(s),
     }
     return statistics, s, loaded, on_face
+
+
+def stress_pdf(s, on_face, bins=PDF_BINS):
+    """The pdf of `s` over `bins` common bins, split into the nodes off and
+    on the box faces (boolean `on_face`), each per loaded node so that the
+    two add up to the pdf of all nodes: (edges, inside, faces)."""
+    edges = np.histogram_bin_edges(s, bins=bins)
+    width = np.diff(edges) * s.size
+    return (edges, np.histogram(s[~on_face], bins=edges)[0] / width,
+            np.histogram(s[on_face], bins=edges)[0] / width)
 
 
 def mid_plane_map(coords, values, box_lo, box_hi, pixels=400):

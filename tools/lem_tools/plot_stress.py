@@ -28,12 +28,10 @@ import matplotlib
 import numpy as np
 
 from . import cli
-from .analysis import TAIL_START, ZZ, mid_plane_map, node_stress_statistics
+from .analysis import TAIL_START, ZZ, mid_plane_map, node_stress_statistics, stress_pdf
 from .files import write_json
 from .plotting import plt, save_figure
 from .results import ELASTIC, STRESS_FIT, STRESS_PLOT, read_elastic
-
-BINS = 80
 
 
 def draw(out):
@@ -59,12 +57,12 @@ def draw(out):
                      % (0.5 * (lo[1] + hi[1])))
 
     # Both pdfs per loaded node, so that they add up to the pdf of all nodes.
-    edges = np.histogram_bin_edges(s, bins=BINS)
+    edges, inside, faces = stress_pdf(s, on_face)
     centres = 0.5 * (edges[1:] + edges[:-1])
     floor = np.inf
-    for chosen, style, label in ((~on_face, "o", "nodes inside the box"),
-                                 (on_face, "x", "nodes on the box faces (left out of the fit)")):
-        hist = np.histogram(s[chosen], bins=edges)[0] / (s.size * np.diff(edges))
+    for hist, chosen, style, label in (
+            (inside, ~on_face, "o", "nodes inside the box"),
+            (faces, on_face, "x", "nodes on the box faces (left out of the fit)")):
         ok = hist > 0
         if ok.any():
             ax_pdf.semilogy(centres[ok], hist[ok], style, ms=4,

@@ -70,6 +70,7 @@ from . import cli
 from .errors import ToolError
 from .files import write_json
 from .results import SUMMARY, ResultsError, finished_problem, read_json
+from .study_data import DataFolder
 from .study_axes import AXIS_KEYS, SUBSET_KEYS, has_axes, is_number, lattices, read_axes
 
 TOOLS = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -192,13 +193,15 @@ def study_hash(study):
 
 
 class Study:
-    def __init__(self, path, out, bin_dir=None):
+    def __init__(self, path, out, bin_dir=None, data=None):
         self.spec = load_study(path)
         self.out = out
         self.bin = bin_dir or os.environ.get("LEM_BIN") or os.path.join(ROOT, "build")
         self.hash = study_hash(self.spec)
         self.lattices = lattices(self.spec)
         self.by_tag = {lattice["tag"]: lattice for lattice in self.lattices}
+        # the data folder (study_data) that keeps a row per run, if any
+        self.data = DataFolder(data, self) if data else None
 
     # --- layout -----------------------------------------------------------
     def samples(self):
@@ -268,6 +271,8 @@ class Study:
                                     self.spec["name"], self.hash))
         else:
             write_json(record, dict(self.spec, hash=self.hash))
+        if self.data:
+            self.data.claim()
         runs = self.runs()
         if not has_axes(self.spec):
             print("study %s (hash %s): %d samples x %d sigma^pm = %d runs in %s"
@@ -285,12 +290,16 @@ class Study:
         samples = self.samples()
         chosen = samples if index is None else [pick(samples, index, "sample")]
         os.makedirs(os.path.join(self.out, "samples"), exist_ok=True)
+        needed = self.needed_samples()
         for sample in chosen:
             stem, lattice = sample["stem"], sample["lattice"]
             path = self.sample_file(lattice, sample["rho_m"])
             done = os.path.join(self.out, "samples", stem + "_summary.json")
             if os.path.exists(done) and os.path.exists(path):
                 print("sample %s: complete" % stem)
+                continue
+            if stem not in needed:
+                print("sample %s: not needed (its runs are kept in %s)" % (stem, self.data.path))
                 continue
             options = dict(self.spec["sample"], **lattice["sample_options"])
             cmd = [os.path.join(self.bin, "lem_sample")] + options_list(options) + [
@@ -301,20 +310,53 @@ class Study:
             if execute(cmd, log) != 0:
                 raise StudyError("sample %s failed (log: %s): %s" % (stem, log, tail(log)))
 
+    def needed_samples(self):
+        """Stems of the samples some step still needs: all of them without
+        a data folder; with one, those of the runs it lacks, of the elastic
+        pulls, and of the calibration of a lattice neither kept nor made
+        whose runs are not all kept."""
+        if not self.data:
+            return {s["stem"] for s in self.samples()}
+        needed = {p["id"].rsplit("_", 1)[0] for p in self.elastic_pulls()}
+        for run in self.runs():
+            if not self.data.has_row(run):
+                lattice = self.lattice_of(run)
+                needed.add(self.sample_stem(lattice, run["rho_m"]))
+                if not self.calibration(lattice):
+                    needed.add(self.sample_stem(lattice, self.spec["matrix_fractions"][0]))
+        return needed
+
     def moduli_options(self, e_pp):
         ph = self.spec["phases"]
         return ["-phase_E_p", str(ph["E_p"]), "-phase_E_m", str(ph["E_m"]),
                 "-phase_E_pp", str(e_pp), "-phase_E_pm", str(ph["E_pm"])]
 
-    def fracture_command(self, sample, out_dir, extra):
+    def fracture_options(self, extra):
+        """The options of lem_fracture but its sample and output folder."""
         ph = self.spec["phases"]
-        return (launcher(self.spec["ranks"]) + [
-            os.path.join(self.bin, "lem_fracture"), "-sample_file", sample, "-output_dir", out_dir]
-            + self.moduli_options(ph["E_pp"]) + [
+        return (self.moduli_options(ph["E_pp"]) + [
             "-phase_sigma_p", str(ph["sigma_p"]), "-phase_sigma_m", str(ph["sigma_p"]),
             "-phase_sigma_pp", "0"] + options_list(self.spec["fracture"]) + extra)
 
+    def fracture_command(self, sample, out_dir, extra):
+        return (launcher(self.spec["ranks"]) + [
+            os.path.join(self.bin, "lem_fracture"), "-sample_file", sample, "-output_dir", out_dir]
+            + self.fracture_options(extra))
+
+    def run_options(self, run, cal):
+        """The options of `run` beyond the study's, with the calibration `cal`."""
+        sigma_pm = run["sigma_pm_ratio"] * self.spec["phases"]["sigma_p"]
+        return ["-phase_sigma_pm", repr(sigma_pm), "-fracture_calibrate", "false",
+                "-fracture_sigma_unit", repr(cal["sigma_hom"]),
+                "-fracture_modulus_unit", repr(cal["E_hom"])]
+
     def calibration(self, lattice):
+        """sigma^[p] and E^[p] of `lattice`: those kept in the data folder
+        (so that the rows added later share the units of the kept ones), else
+        those of its calibration run, else None."""
+        kept = self.data.calibration(lattice["tag"]) if self.data else None
+        if kept:
+            return kept
         directory = self.calibration_dir(lattice)
         if finished_problem(directory) is not None:
             return None
@@ -339,8 +381,15 @@ class Study:
         lattice) underlies every sample of a lattice, so one calibration
         serves them all."""
         label = "calibration" if lattice["tag"] is None else "calibration " + lattice["tag"]
-        if self.calibration(lattice):
+        cal = self.calibration(lattice)
+        if cal:
             print("%s: complete" % label)
+            if self.data:
+                self.data.write_calibration(lattice["tag"], cal)
+            return 0
+        if self.data and all(self.data.has_row(run) for run in self.runs()
+                             if self.lattice_of(run) is lattice):
+            print("%s: not needed (the runs are kept in %s)" % (label, self.data.path))
             return 0
         rho = self.spec["matrix_fractions"][0]
         out_dir = self.calibration_dir(lattice)
@@ -355,6 +404,8 @@ class Study:
             return status
         if status != 0:
             raise StudyError("%s failed (log: %s): %s" % (label, log, tail(log)))
+        if self.data:
+            self.data.write_calibration(lattice["tag"], self.calibration(lattice))
         return 0
 
     def run_record(self, run):
@@ -362,6 +413,11 @@ class Study:
             self.sample_file(self.lattice_of(run), run["rho_m"])))
 
     def is_complete(self, run):
+        """Whether `run` is done: kept in the data folder, or complete in
+        its run folder."""
+        return bool(self.data and self.data.has_row(run)) or self.folder_complete(run)
+
+    def folder_complete(self, run):
         d = self.run_dir(run)
         try:
             return (read_json(os.path.join(d, "run.json")) == self.run_record(run)
@@ -426,8 +482,12 @@ class Study:
 
     def run_one(self, run):
         d = self.run_dir(run)
-        if self.is_complete(run):
+        if self.data and self.data.has_row(run):
+            print("run %s: kept in %s" % (run["id"], self.data.path))
+            return 0
+        if self.folder_complete(run):
             print("run %s: complete" % run["id"])
+            self.keep(run)
             return 0
         lattice = self.lattice_of(run)
         cal = self.calibration(lattice)
@@ -437,17 +497,26 @@ class Study:
         sample = self.sample_file(lattice, run["rho_m"])
         if not os.path.exists(sample):
             raise StudyError("sample %s missing: run the samples step first" % sample)
-        sigma_pm = run["sigma_pm_ratio"] * self.spec["phases"]["sigma_p"]
-        cmd = self.fracture_command(sample, d, [
-            "-phase_sigma_pm", repr(sigma_pm), "-fracture_calibrate", "false",
-            "-fracture_sigma_unit", repr(cal["sigma_hom"]),
-            "-fracture_modulus_unit", repr(cal["E_hom"])])
-        status = self.launch(run, d, cmd)
+        status = self.launch(run, d, self.fracture_command(sample, d, self.run_options(run, cal)))
         if status == 0:
             # its own process: a failed stress figure must not fail the run
             subprocess.run([sys.executable, os.path.join(TOOLS, "plot_stress.py"), d],
                            stdout=subprocess.DEVNULL, check=False)
+            self.keep(run)
         return status
+
+    def keep(self, run):
+        """The row of a run complete in its folder, into the data folder (if
+        the study has one and lacks it)."""
+        if not self.data or self.data.has_row(run):
+            return
+        from .study_table import folder_row  # numpy and the results readers
+
+        cal = self.calibration(self.lattice_of(run))
+        self.data.write_row(run, folder_row(self, run), self.fracture_options(
+            self.run_options(run, cal)), self.run_dir(run),
+            self.sample_file(self.lattice_of(run), run["rho_m"]), cal)
+        print("run %s: kept in %s" % (run["id"], self.data.run_path(run["id"])))
 
     def run_all(self, index=None):
         runs = self.runs()
@@ -560,7 +629,7 @@ def tail(path, lines=2):
 
 
 def do(args):
-    study = Study(args.study_file, args.out, args.bin)
+    study = Study(args.study_file, args.out, args.bin, args.data)
     if args.ranks is not None:
         if args.ranks < 1:
             raise StudyError("--ranks %d is not a positive integer" % args.ranks)
@@ -608,7 +677,15 @@ def main(argv=None):
     arg_parser.add_argument("--bin", metavar="DIR",
                             help="folder of the lem_* programs (default: $LEM_BIN, else "
                                  "build/ of this repository)")
+    data_argument(arg_parser)
     return cli.run(arg_parser, do, argv)
+
+
+def data_argument(arg_parser):
+    arg_parser.add_argument("--data", metavar="DATA_DIR",
+                            help="keep a row per run in DATA_DIR (e.g. docs/data/<study>), "
+                                 "read rows kept there instead of running them, and draw the "
+                                 "paper's figures from it (gather)")
 
 
 GATHER_DOC = """Table and figures of a parametric study (the gather step of study.py).
@@ -652,7 +729,9 @@ def gather_main(argv=None):
     arg_parser = cli.parser(GATHER_DOC)
     arg_parser.add_argument("study_file", metavar="STUDY.yaml", help="the study file")
     arg_parser.add_argument("out", metavar="OUT_DIR", help="the study's output folder")
-    return cli.run(arg_parser, lambda args: gather(Study(args.study_file, args.out)), argv)
+    data_argument(arg_parser)
+    return cli.run(arg_parser, lambda args: gather(Study(args.study_file, args.out,
+                                                         data=args.data)), argv)
 
 
 if __name__ == "__main__":

@@ -86,40 +86,59 @@ def finish(fig, resolution):
     return fig
 
 
-def strength_figure(points, fit, resolution):
+def strength_panel(ax, points):
+    """sigma_eff against sigma^pm, a line per rho^m (fig. 9)."""
+    groups = group_by_rho(points)
+    for color, (rho, ps) in zip(rho_colors(groups), groups.items()):
+        values(ax, [p["sigma_pm_ratio"] for p in ps], ps, "sigma_eff_over_sigma_unit", "o-",
+               color=color, label=r"$\rho^m$ = %.2f" % rho)
+    ax.set_xlabel(RATIO)
+    ax.set_ylabel(r"tensile strength $\sigma_{\rm eff} / \sigma^{[p]}$")
+    ax.set_title("(a) tensile strength (paper fig. 9)")
+    ax.legend(fontsize=8)
+
+
+def scaling_panel(ax, points, fit, k=None):
+    """sigma_eff / sigma^pm against the abscissa of eq. 10 with exponent k
+    (default: the fitted one), and the fitted eq. 10 (fig. 12); returns the
+    abscissa's k, None when nothing is drawn (no fit and no k)."""
     groups = group_by_rho(points)
     ratios = sorted({p["sigma_pm_ratio"] for p in points})
-    fig, (a, b) = plt.subplots(1, 2, figsize=(12, 5.4))
-    if fit:
-        right = float(max(eq10_abscissa(list(groups), fit["k"])))
-        # the sigma^pm of a rho^m share its abscissa: with error bars, side by
-        # side over 3 % of the axis, so that the bars do not hide each other
-        step = 0.03 * right / max(1, len(ratios) - 1) if replicated(points) else 0.0
-    for color, (rho, ps) in zip(rho_colors(groups), groups.items()):
-        label = r"$\rho^m$ = %.2f" % rho
-        values(a, [p["sigma_pm_ratio"] for p in ps], ps, "sigma_eff_over_sigma_unit", "o-",
-               color=color, label=label)
-        if fit:
-            x = float(eq10_abscissa(rho, fit["k"]))
-            values(b, [x + (ratios.index(p["sigma_pm_ratio"]) - (len(ratios) - 1) / 2) * step
-                       for p in ps], ps, "sigma_eff_over_sigma_pm", "o", color=color, label=label)
-    a.set_xlabel(RATIO)
-    a.set_ylabel(r"tensile strength $\sigma_{\rm eff} / \sigma^{[p]}$")
-    a.set_title("(a) tensile strength (paper fig. 9)")
-    a.legend(fontsize=8)
-    if fit:
-        gs = np.linspace(0, 1.05 * right, 10)
-        b.plot(gs, fit["A"] * gs, "--", color="black",
-               label="eq. 10 fitted: A = %.3f, k = %.2f (paper: 0.3, 2.5)" % (fit["A"], fit["k"]))
-        b.legend(fontsize=8)
-    b.set_xlabel(r"$\rho^m (2\rho^m_f - \rho^m) / (1 - k \rho^m)$,  $\rho^m_f$ = %.2f" % RHO_FILLED)
-    b.set_ylabel(r"$\sigma_{\rm eff} / \sigma^{pm}$")
+    k = k if k is not None else fit["k"] if fit else None
     title = "(b) scaling of eq. 10 (paper fig. 12)"
-    if not fit:
-        title += ": not fitted, needs two matrix fractions"
-    elif step:
-        title += r", $\sigma^{pm}$ rising to the right"
-    b.set_title(title)
+    if k is None:
+        ax.set_title(title + ": not fitted, needs two matrix fractions")
+        return None
+    right = float(max(eq10_abscissa(list(groups), k)))
+    # the sigma^pm of a rho^m share its abscissa: with error bars, side by
+    # side over 3 % of the axis, so that the bars do not hide each other
+    step = 0.03 * right / max(1, len(ratios) - 1) if replicated(points) else 0.0
+    for color, (rho, ps) in zip(rho_colors(groups), groups.items()):
+        x = float(eq10_abscissa(rho, k))
+        values(ax, [x + (ratios.index(p["sigma_pm_ratio"]) - (len(ratios) - 1) / 2) * step
+                    for p in ps], ps, "sigma_eff_over_sigma_pm", "o", color=color,
+               label=r"$\rho^m$ = %.2f" % rho)
+    if fit:
+        label = "eq. 10 fitted: A = %.3f, k = %.2f (paper: 0.3, 2.5)" % (fit["A"], fit["k"])
+        if abs(k - fit["k"]) < 1e-12:
+            gs = np.linspace(0, 1.05 * right, 10)
+            ax.plot(gs, fit["A"] * gs, "--", color="black", label=label)
+        else:  # the fitted law is a curve against another k's abscissa
+            rho = np.linspace(0, max(groups), 50)
+            ax.plot(eq10_abscissa(rho, k), fit["A"] * eq10_abscissa(rho, fit["k"]), "--",
+                    color="black", label=label)
+    ax.set_xlabel(r"$\rho^m (2\rho^m_f - \rho^m) / (1 - k \rho^m)$,  $\rho^m_f$ = %.2f, k = %.2f"
+                  % (RHO_FILLED, k))
+    ax.set_ylabel(r"$\sigma_{\rm eff} / \sigma^{pm}$")
+    ax.set_title(title + (r", $\sigma^{pm}$ rising to the right" if step else ""))
+    ax.legend(fontsize=8)
+    return k
+
+
+def strength_figure(points, fit, resolution):
+    fig, (a, b) = plt.subplots(1, 2, figsize=(12, 5.4))
+    strength_panel(a, points)
+    scaling_panel(b, points, fit)
     return finish(fig, resolution)
 
 
@@ -164,28 +183,30 @@ def damage_curves(ax, points, curves, colors):
               if replicated(points) else None, title_fontsize=8)
 
 
-def damage_figure(points, samples, curves, phases, resolution):
-    """`curves`: {run id: curve (results.read_curve)} of the runs of
-    damage_curve_picks(points); `samples`: analysis.sample_means (the
-    moduli of eq. 14's frontier)."""
+def point_colors(points):
+    """{rho^m: colour} of the matrix fractions of `points`."""
     groups = group_by_rho(points)
-    rhos = list(groups)
+    return dict(zip(groups, rho_colors(groups)))
+
+
+def damage_panel(ax, points, column="sigma_pm_ratio"):
+    """n_b after failure against sigma^pm (fig. 14) or, with `column`
+    K_c_r_eq14, against K_c^r of eq. 14 (fig. 16), a series per rho^m."""
+    colors = point_colors(points)
+    against_ratio = column == "sigma_pm_ratio"
+    for rho, ps in group_by_rho(points).items():
+        values(ax, [p[column] for p in ps], ps, "n_b", "o-" if against_ratio else "o",
+               xcolumn=None if against_ratio else column, color=colors[rho],
+               label=r"$\rho^m$ = %.2f" % rho)
+    ax.set_ylabel(N_B)
+    ax.legend(fontsize=8)
+
+
+def damage_map_panel(fig, c, points, samples, phases):
+    """Grey map of n_b over (rho^m, sigma^pm) with the frontiers of eqs. 13
+    and 14 (fig. 15); `samples` as analysis.sample_means gives them."""
+    rhos = sorted({p["rho_m"] for p in points})
     ratios = sorted({p["sigma_pm_ratio"] for p in points})
-    colors = dict(zip(rhos, rho_colors(groups)))
-    fig, axes = plt.subplots(2, 2, figsize=(12, 10))
-    (a, b), (c, d) = axes
-    damage_curves(a, points, curves, colors)
-    for rho, ps in groups.items():
-        label = r"$\rho^m$ = %.2f" % rho
-        values(b, [p["sigma_pm_ratio"] for p in ps], ps, "n_b", "o-", color=colors[rho],
-               label=label)
-        values(d, [p["K_c_r_eq14"] for p in ps], ps, "n_b", "o", xcolumn="K_c_r_eq14",
-               color=colors[rho], label=label)
-    b.set_xlabel(RATIO)
-    b.set_ylabel(N_B)
-    b.set_title(r"(b) damage against $\sigma^{pm}$ (paper fig. 14)")
-    b.legend(fontsize=8)
-    # (c) grey map over the grid, with the frontiers of eqs. 13 and 14.
     grid = np.full((len(ratios), len(rhos)), np.nan)
     for p in points:
         grid[ratios.index(p["sigma_pm_ratio"]), rhos.index(p["rho_m"])] = p["n_b"]
@@ -203,34 +224,56 @@ def damage_figure(points, samples, curves, phases, resolution):
     c.set_ylabel(RATIO)
     c.set_title(r"(c) $n_b$ over the grid (paper fig. 15)")
     c.legend(fontsize=8, loc="best", framealpha=0.9)
+
+
+def damage_figure(points, samples, curves, phases, resolution):
+    """`curves`: {run id: curve (results.read_curve)} of the runs of
+    damage_curve_picks(points); `samples`: analysis.sample_means (the
+    moduli of eq. 14's frontier)."""
+    fig, axes = plt.subplots(2, 2, figsize=(12, 10))
+    (a, b), (c, d) = axes
+    damage_curves(a, points, curves, point_colors(points))
+    damage_panel(b, points)
+    b.set_xlabel(RATIO)
+    b.set_title(r"(b) damage against $\sigma^{pm}$ (paper fig. 14)")
+    damage_map_panel(fig, c, points, samples, phases)
+    damage_panel(d, points, "K_c_r_eq14")
     d.axvline(K_DAMAGE_LIMIT, ls=":", color="tab:blue", label="eq. 14, $K_c^r$ = %.1f"
               % K_DAMAGE_LIMIT)
     d.set_xlabel(r"$K_c^r$ of eq. 14")
-    d.set_ylabel(N_B)
     d.set_title(r"(d) damage against $K_c^r$ (paper fig. 16)")
     d.legend(fontsize=8)
     return finish(fig, resolution)
 
 
-def stiffness_stress_figure(samples, phases, resolution):
-    """`samples`: analysis.sample_means (one point per rho^m)."""
-    rhos = [p["rho_m"] for p in samples]
-    fig, (a, b) = plt.subplots(1, 2, figsize=(12, 5.4))
-    values(a, rhos, samples, "E_eff_over_E_unit", "o-", color="tab:blue",
-           label="first step of lem_fracture (bare contacts open)")
-    paper_stars(a, "E_eff_over_E_unit", phases, E_P)
-    a.set_xlabel(RHO)
-    a.set_ylabel(r"effective modulus $E_{\rm eff} / E^{[p]}$")
-    a.set_title("(a) effective modulus, bare contacts (paper fig. 5)")
-    a.legend(fontsize=8)
-    values(b, rhos, samples, "beta", "s-", color="tab:blue",
+def modulus_panel(ax, samples, phases):
+    """E_eff against rho^m (fig. 5), the paper's value as a star."""
+    values(ax, [p["rho_m"] for p in samples], samples, "E_eff_over_E_unit", "o-",
+           color="tab:blue", label="first step of lem_fracture (bare contacts open)")
+    paper_stars(ax, "E_eff_over_E_unit", phases, E_P)
+    ax.set_xlabel(RHO)
+    ax.set_ylabel(r"effective modulus $E_{\rm eff} / E^{[p]}$")
+    ax.set_title("(a) effective modulus, bare contacts (paper fig. 5)")
+    ax.legend(fontsize=8)
+
+
+def beta_panel(ax, samples, phases):
+    """The tail exponent beta against rho^m (fig. 8), the paper's as stars."""
+    values(ax, [p["rho_m"] for p in samples], samples, "beta", "s-", color="tab:blue",
            label=r"$P(s) \propto e^{-\beta s}$ above $s$ = 1, $s = \sigma^i_{zz}/\sigma_{zz}$, "
                  "nodes off the box faces")
-    paper_stars(b, "beta", phases)
-    b.set_xlabel(RHO)
-    b.set_ylabel(r"tail exponent $\beta$ of eq. 2")
-    b.set_title("(b) node-stress pdf tail (paper fig. 8)")
-    b.legend(fontsize=8)
+    paper_stars(ax, "beta", phases)
+    ax.set_xlabel(RHO)
+    ax.set_ylabel(r"tail exponent $\beta$ of eq. 2")
+    ax.set_title("(b) node-stress pdf tail (paper fig. 8)")
+    ax.legend(fontsize=8)
+
+
+def stiffness_stress_figure(samples, phases, resolution):
+    """`samples`: analysis.sample_means (one point per rho^m)."""
+    fig, (a, b) = plt.subplots(1, 2, figsize=(12, 5.4))
+    modulus_panel(a, samples, phases)
+    beta_panel(b, samples, phases)
     return finish(fig, resolution)
 
 

@@ -13,8 +13,9 @@ from .analysis import (fit_eq10, k_c_r_eq14, replicate_means, sample_means,
 from .convergence_table import number, optional_json
 from .files import atomic_open, write_json
 from .phases import BREAKABLE, broken_column
-from .results import (CURVE, STRESS_FIT, STUDY_COLUMNS, SUMMARY, read_curve, read_stress_beta,
-                      read_summary)
+from .results import (CURVE, STRESS_FIT, STUDY_COLUMNS, SUMMARY, read_curve, read_json,
+                      read_stress_beta, read_summary)
+from .study_data import curve_of
 from .study_axes import DEFAULT_SAMPLE_PARTICLES, has_axes, is_number
 
 
@@ -37,10 +38,33 @@ def run_row(run, summary, phases, beta):
     return row
 
 
+def folder_row(study, run):
+    """The row of a run complete in its folder."""
+    d = study.run_dir(run)
+    return run_row(run, read_summary(os.path.join(d, SUMMARY)), study.spec["phases"],
+                   read_stress_beta(os.path.join(d, STRESS_FIT)))
+
+
+def kept_row(study, run):
+    """The row of `run` kept in the study's data folder, with the columns
+    of STUDY_COLUMNS (None where the data has none)."""
+    row = read_json(study.data.run_path(run["id"]))["row"]
+    return {c: float("nan") if row.get(c) is None else row[c] for c in STUDY_COLUMNS}
+
+
+def run_curve(study, run):
+    """The curve of a complete run: from its folder, else the thinned one kept
+    in the data folder."""
+    if study.folder_complete(run):
+        return read_curve(os.path.join(study.run_dir(run), CURVE))
+    return curve_of(read_json(study.data.run_path(run["id"])))
+
+
 def collect(study, samples=None):
-    """Rows of the complete runs, and (id, state) of the others (elastic
-    pulls included).  With `samples` (convergence_table.sample_rows by
-    sample stem), each row also has the columns of its lattice."""
+    """Rows of the complete runs (from their folders, else from the data
+    folder), and (id, state) of the others (elastic pulls included).  With
+    `samples` (convergence_table.sample_rows by sample stem), each row also
+    has the columns of its lattice."""
     rows, missing = [], []
     for run in study.runs() + study.elastic_pulls():
         state = study.state(run)
@@ -49,9 +73,7 @@ def collect(study, samples=None):
             continue
         if "contacts" in run:
             continue  # an elastic pull: in samples.csv
-        d = study.run_dir(run)
-        row = run_row(run, read_summary(os.path.join(d, SUMMARY)),
-                      study.spec["phases"], read_stress_beta(os.path.join(d, STRESS_FIT)))
+        row = folder_row(study, run) if study.folder_complete(run) else kept_row(study, run)
         if samples is not None:
             row.update(convergence_table.run_axis_columns(study, run, samples))
             convergence_table.add_shares(row)
@@ -139,8 +161,8 @@ def gather(study):
     record["figures"] = resolution
     write_json(os.path.join(study.out, "fit.json"), record)
     if shown:
-        by_id = {r["id"]: r for r in shown}
-        curves = {run_id: read_curve(os.path.join(study.run_dir(by_id[run_id]), CURVE))
+        runs = {run["id"]: run for run in study.runs()}
+        curves = {run_id: run_curve(study, runs[run_id])
                   for p in study_plots.damage_curve_picks(points) for run_id in p["runs"]}
         study_plots.draw_all(points, by_rho, fit, curves, study.spec["phases"], resolution,
                              os.path.join(study.out, "figures"))
@@ -152,4 +174,13 @@ def gather(study):
         print("gather: %d samples -> samples.csv; %d quantity x grid points -> "
               "convergence.csv, convergence_levels.csv, convergence.md, "
               "figures/convergence_*.png" % (len(samples), len(extrapolated)))
+    if study.data:
+        for run in study.runs():
+            if study.folder_complete(run):
+                study.keep(run)
+        from .paper_figures import draw_folders
+
+        paths = draw_folders([study.data.path], os.path.join(study.out, "figures", "paper"))
+        print("gather: the paper's figures from %s -> %s" % (study.data.path,
+                                                             os.path.dirname(paths[0])))
     return 1 if missing else 0

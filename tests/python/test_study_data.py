@@ -1,0 +1,204 @@
+"""Results kept as data (study_data): the rows a study keeps, a study
+resumed from them running only what they lack, and the paper's figures
+redrawn from the committed data folder of a real small study."""
+import json
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from conftest import TOOLS, write_curve, write_manifest, write_study_file
+from lem_tools import study, study_data
+from lem_tools.study import Study
+
+ROOT = os.path.dirname(TOOLS)
+TINY = os.path.join(ROOT, "docs", "data", "tiny-grid")   # jobs/studies/tiny-grid.yaml
+STUDY = """name: d
+ranks: 1
+sample: {sample_particles: 8, lattice_bonds: 6000}
+matrix_fractions: [0.13, 0.24]
+sigma_pm_ratios: [0.4, 1.2]
+"""
+CALIBRATION = {"sigma_hom": 0.0193, "E_hom": 7.6}
+
+
+# --- the row's content ----------------------------------------------------------
+
+def test_thinning_keeps_the_peak_the_falls_and_the_end():
+    strain = np.linspace(1e-5, 1e-2, 1000)
+    before = np.where(strain < 5e-3, strain * 100, 0.1)     # rises to 0.5, falls to 0.1
+    before[700] = 0.3                                        # a single spike after the fall
+    curve = {"strain": strain, "stress_before_norm": before, "stress_norm": before * 0.99,
+             "n_b": np.where(strain < 5e-3, 0.0, 0.2)}
+    keep = study_data.thin_curve(curve)
+    assert len(keep) < 400
+    assert keep[0] == 0 and keep[-1] == 999
+    peak = int(np.argmax(before))
+    assert peak in keep and peak + 1 in keep                 # both sides of the fall
+    assert 700 in keep and 701 in keep                       # the spike and its end
+    # the rise is sampled finely enough to redraw it: no gap above 1/250 of the strain
+    # range in the rise, or of 1/100 of the stress
+    gaps = np.diff(strain[keep])
+    assert gaps.max() <= (strain[-1] - strain[0]) / study_data.THIN_STRAIN + 1e-5
+
+
+def write_sample(path, values, start_time):
+    import h5py
+
+    with h5py.File(path, "w") as f:
+        f["nodes/coordinates"] = np.asarray(values, dtype=float)
+        f.attrs["start_time"] = start_time
+
+
+def test_sample_checksum_is_of_the_data_not_of_the_file(tmp_path):
+    """lem_sample writes the same datasets from the same options but other
+    timings and times into the attributes: the checksum follows the data."""
+    paths = [str(tmp_path / name) for name in ("a.h5", "b.h5", "c.h5")]
+    write_sample(paths[0], [[0, 0, 0], [1, 1, 1]], "2026-11-28T07:00:00Z")
+    write_sample(paths[1], [[0, 0, 0], [1, 1, 1]], "2026-11-28T08:00:00Z")
+    write_sample(paths[2], [[0, 0, 0], [1, 1, 1.5]], "2026-11-28T07:00:00Z")
+    sums = [study_data.sample_checksum(p) for p in paths]
+    assert sums[0] == sums[1] != sums[2]
+    assert sums[0].startswith("crc32:")
+    with open(paths[0], "rb") as a, open(paths[1], "rb") as b:
+        assert a.read() != b.read()
+
+
+# --- a study resumed from its data ------------------------------------------------
+
+class FakePrograms:
+    """study.execute standing in for lem_sample and lem_fracture: writes what
+    they write (a sample, a calibration, a complete run) and records what ran."""
+
+    def __init__(self):
+        self.ran = []
+
+    def __call__(self, cmd, log):
+        program = os.path.basename(cmd[cmd.index("-n") + 2] if "-n" in cmd else cmd[0])
+        opts = {cmd[i]: cmd[i + 1] for i in range(len(cmd) - 1) if cmd[i].startswith("-")}
+        if program == "lem_sample":
+            out, stem = opts["-output_dir"], opts["-output_stem"]
+            rho = float(opts["-matrix_fraction"])
+            write_sample(os.path.join(out, stem + ".h5"), [[rho, 0, 0]], "now")
+            with open(os.path.join(out, stem + "_summary.json"), "w") as f:
+                json.dump({"bonds": 6000, "sample_particles": 8, "packing_seed": 1,
+                           "lattice_seed": 1, "interface_ratio_Spm_Sp": rho / 0.28}, f)
+            self.ran.append(("sample", stem))
+            return 0
+        out = opts["-output_dir"]
+        if opts.get("-fracture_max_steps") == "1":
+            with open(os.path.join(out, "summary.json"), "w") as f:
+                json.dump(CALIBRATION, f)
+            write_manifest(out, ("summary.json",))
+            self.ran.append(("calibration", None))
+            return 0
+        ratio = float(opts["-phase_sigma_pm"]) / 0.01
+        write_curve(os.path.join(out, "curve.csv"),
+                    [(1e-4 * i, 0.1 * i, 0.1 * i, 0, 0, 10, 0) for i in range(1, 6)]
+                    + [(6e-4, 0.5, 0.1, 3, 4, 10, 5)])
+        with open(os.path.join(out, "summary.json"), "w") as f:
+            json.dump({"E_eff_over_E_unit": 0.3, "sigma_eff_over_sigma_unit": 0.5,
+                       "sigma_eff": 0.5 * float(opts["-fracture_sigma_unit"]),
+                       "strain_at_peak": 5e-4, "n_b": 3 / 22, "broken": 22, "broken_p": 3,
+                       "broken_m": 4, "broken_pp": 10, "broken_pm": 5,
+                       "end_reason": "stress below the stop fraction of the peak",
+                       "solves": 9, "seconds": 1.0}, f)
+        write_manifest(out, ("curve.csv", "summary.json"))
+        self.ran.append(("run", os.path.basename(out), ratio, opts["-fracture_sigma_unit"]))
+        return 0
+
+
+@pytest.fixture
+def programs(monkeypatch):
+    fake = FakePrograms()
+    monkeypatch.setattr(study, "execute", fake)
+    # the stress figure of each run is its own process: not wanted here
+    monkeypatch.setattr(study.subprocess, "run", lambda *a, **k: None)
+    monkeypatch.setenv("LEM_LAUNCHER", "mpirun")
+    return fake
+
+
+def test_a_resumed_study_runs_only_the_rows_its_data_lacks(tmp_path, programs, monkeypatch):
+    monkeypatch.setattr(study, "gather", lambda s: 0)   # the figures: tested below
+    path = write_study_file(tmp_path, STUDY, "d.yaml")
+    data = str(tmp_path / "data")
+    first = str(tmp_path / "here")
+    assert study.main(["all", path, first, "--data", data]) == 0
+    runs = [run["id"] for run in Study(path, first).runs()]
+    assert [r[1] for r in programs.ran if r[0] == "run"] == runs
+    assert sorted(os.listdir(os.path.join(data, "runs"))) == [r + ".json" for r in runs]
+    kept = json.load(open(os.path.join(data, "runs", runs[1] + ".json")))
+    assert kept["row"]["sigma_pm_ratio"] == 1.2 and kept["row"]["n_b"] == pytest.approx(3 / 22, rel=1e-5)
+    assert kept["options"][-8:] == ["-phase_sigma_pm", "0.012", "-fracture_calibrate", "false",
+                                    "-fracture_sigma_unit", "0.0193", "-fracture_modulus_unit",
+                                    "7.6"]
+    assert kept["sample"]["checksum"] == study_data.sample_checksum(
+        os.path.join(first, "samples", "rho_0.1300.h5"))
+    assert kept["curve"]["columns"][0] == "strain" and len(kept["curve"]["rows"]) == 6
+    assert json.load(open(os.path.join(data, "calibration", "default.json"))) == CALIBRATION
+
+    # here again, one row's run folder and data deleted: that row alone runs
+    import shutil
+
+    shutil.rmtree(os.path.join(first, "runs", runs[2]))
+    os.remove(os.path.join(data, "runs", runs[2] + ".json"))
+    programs.ran.clear()
+    assert study.main(["all", path, first, "--data", data]) == 0
+    assert programs.ran == [("run", runs[2], 0.4, repr(CALIBRATION["sigma_hom"]))]
+
+    # on another machine (a new output folder, the data folder as committed,
+    # one row less): its sample alone is built, the kept calibration is used
+    os.remove(os.path.join(data, "runs", runs[3] + ".json"))
+    programs.ran.clear()
+    elsewhere = str(tmp_path / "elsewhere")
+    assert study.main(["all", path, elsewhere, "--data", data]) == 0
+    assert programs.ran == [("sample", "rho_0.2400"),
+                            ("run", runs[3], 1.2, repr(CALIBRATION["sigma_hom"]))]
+    assert len(os.listdir(os.path.join(data, "runs"))) == 4
+    # status there counts the kept rows as complete
+    assert Study(path, elsewhere, data=data).status()["complete"] == 4
+
+
+def test_a_data_folder_keeps_one_study(tmp_path, programs, monkeypatch):
+    monkeypatch.setattr(study, "gather", lambda s: 0)
+    data = str(tmp_path / "data")
+    path = write_study_file(tmp_path, STUDY, "d.yaml")
+    assert study.main(["plan", path, str(tmp_path / "a"), "--data", data]) == 0
+    other = write_study_file(tmp_path, STUDY.replace("0.24", "0.25"), "o.yaml")
+    assert study.main(["plan", other, str(tmp_path / "b"), "--data", data]) == 1
+    assert not os.path.exists(str(tmp_path / "b" / "runs"))
+
+
+# --- the paper's figures from the committed data --------------------------------------
+
+def test_the_committed_data_is_small_and_complete():
+    """docs/data/tiny-grid: every run of jobs/studies/tiny-grid.yaml, each
+    row a few kB, with the pdf and the thinned curve the figures need."""
+    spec = Study(os.path.join(ROOT, "jobs", "studies", "tiny-grid.yaml"), "unused")
+    rows = study_data.DataFolder(TINY).rows()
+    assert sorted(d["run"]["id"] for d in rows) == sorted(r["id"] for r in spec.runs())
+    assert all(d["study_hash"] == spec.hash for d in rows)
+    sizes = [os.path.getsize(os.path.join(TINY, "runs", d["run"]["id"] + ".json")) for d in rows]
+    assert max(sizes) < 30_000
+    for d in rows:
+        assert d["stress_pdf"]["beta"] > 0
+        assert len(d["curve"]["rows"]) < d["curve"]["steps"] or d["curve"]["steps"] < 300
+
+
+def test_the_figure_command_redraws_every_figure_from_the_data(tmp_path):
+    out = str(tmp_path / "figures")
+    done = subprocess.run([sys.executable, os.path.join(TOOLS, "paper_figures.py"), TINY,
+                           "--out", out], capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr
+    names = sorted(os.listdir(out))
+    assert names == ["fig03.png", "fig05.png", "fig08.png", "fig09.png", "fig11.png",
+                     "fig12.png", "fig13.png", "fig14.png", "fig15.png", "fig16.png",
+                     "fit.json", "results.csv"]
+    for name in names[:-2]:
+        with open(os.path.join(out, name), "rb") as f:
+            assert f.read(8) == b"\x89PNG\r\n\x1a\n"
+    fit = json.load(open(os.path.join(out, "fit.json")))
+    assert fit["runs"] == 18 and fit["points"] == 9
+    assert fit["figures"]["runs_per_point"] == [2, 2]
