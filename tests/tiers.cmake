@@ -43,6 +43,7 @@ set(LEM_LONG_TESTS
   signal_anytime                  # fracture_restart_signal
   fracture_warnings_mini          # fracture_warnings_default, _coarse
   study_bad_input                 # tests/python/test_study.py (study files refused)
+  study_data_resume               # tests/python/test_study_data.py (resumed from the data)
 )
 
 # The bad_input group is long but for this sample: each driver, each class

@@ -22,6 +22,7 @@ matrix_fractions: [0.13, 0.24]
 sigma_pm_ratios: [0.4, 1.2]
 """
 CALIBRATION = {"sigma_hom": 0.0193, "E_hom": 7.6}
+A_OVER_L = 0.1     # the fake calibration's strain per bond length of displacement
 
 
 # --- the row's content ----------------------------------------------------------
@@ -73,7 +74,7 @@ class FakePrograms:
     they write (a sample, a calibration, a complete run) and records what ran."""
 
     def __init__(self):
-        self.ran = []
+        self.ran, self.increments = [], []
 
     def __call__(self, cmd, log):
         program = os.path.basename(cmd[cmd.index("-n") + 2] if "-n" in cmd else cmd[0])
@@ -91,7 +92,8 @@ class FakePrograms:
         if opts.get("-fracture_max_steps") == "1":
             with open(os.path.join(out, "summary.json"), "w") as f:
                 json.dump(CALIBRATION, f)
-            write_manifest(out, ("summary.json",))
+            write_curve(os.path.join(out, "curve.csv"), [(3e-4 * A_OVER_L, 0.1, 0.1, 0, 0, 1, 0)])
+            write_manifest(out, ("summary.json", "curve.csv"))
             self.ran.append(("calibration", None))
             return 0
         ratio = float(opts["-phase_sigma_pm"]) / 0.01
@@ -107,6 +109,7 @@ class FakePrograms:
                        "solves": 9, "seconds": 1.0}, f)
         write_manifest(out, ("curve.csv", "summary.json"))
         self.ran.append(("run", os.path.basename(out), ratio, opts["-fracture_sigma_unit"]))
+        self.increments.append(opts.get("-fracture_increment"))
         return 0
 
 
@@ -137,7 +140,8 @@ def test_a_resumed_study_runs_only_the_rows_its_data_lacks(tmp_path, programs, m
     assert kept["sample"]["checksum"] == study_data.sample_checksum(
         os.path.join(first, "samples", "rho_0.1300.h5"))
     assert kept["curve"]["columns"][0] == "strain" and len(kept["curve"]["rows"]) == 6
-    assert json.load(open(os.path.join(data, "calibration", "default.json"))) == CALIBRATION
+    assert json.load(open(os.path.join(data, "calibration", "default.json"))) == dict(
+        CALIBRATION, a_over_L=pytest.approx(A_OVER_L))
 
     # here again, one row's run folder and data deleted: that row alone runs
     import shutil
@@ -159,6 +163,25 @@ def test_a_resumed_study_runs_only_the_rows_its_data_lacks(tmp_path, programs, m
     assert len(os.listdir(os.path.join(data, "runs"))) == 4
     # status there counts the kept rows as complete
     assert Study(path, elsewhere, data=data).status()["complete"] == 4
+
+
+def test_strain_increment_sets_the_increment_of_each_lattice(tmp_path, programs, monkeypatch):
+    """strain_increment: each run's -fracture_increment (in bond lengths a)
+    is the strain step times L / a, a / L measured by the calibration; the
+    default increment is left alone without it."""
+    monkeypatch.setattr(study, "gather", lambda s: 0)
+    path = write_study_file(tmp_path, STUDY + "strain_increment: 2.0e-5\n", "d.yaml")
+    assert study.main(["all", path, str(tmp_path / "out")]) == 0
+    assert programs.increments == ["0.0002"] * 4                 # 2e-5 / 0.1
+    programs.increments.clear()
+    path = write_study_file(tmp_path, STUDY, "plain.yaml")
+    assert study.main(["all", path, str(tmp_path / "plain")]) == 0
+    assert programs.increments == [None] * 4
+    for text, message in (("strain_increment: 0\n", "strain_increment must be a number > 0"),
+                          ("strain_increment: 1.0e-5\nfracture: {fracture_increment: 1.0e-4}\n",
+                           "not both")):
+        with pytest.raises(study.StudyError, match=message):
+            study.load_study(write_study_file(tmp_path, STUDY + text, "bad.yaml"))
 
 
 def test_a_data_folder_keeps_one_study(tmp_path, programs, monkeypatch):

@@ -69,14 +69,14 @@ import yaml
 from . import cli
 from .errors import ToolError
 from .files import write_json
-from .results import SUMMARY, ResultsError, finished_problem, read_json
+from .results import CURVE, SUMMARY, ResultsError, finished_problem, read_json
 from .study_data import DataFolder
 from .study_axes import AXIS_KEYS, SUBSET_KEYS, has_axes, is_number, lattices, read_axes
 
 TOOLS = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 ROOT = os.path.dirname(TOOLS)
 KEYS = {"name", "ranks", "sample", "matrix_fractions", "sigma_pm_ratios", "phases",
-        "fracture"} | AXIS_KEYS
+        "fracture", "strain_increment"} | AXIS_KEYS
 PHASE_KEYS = {"E_p": 3.0, "E_m": 1.0, "E_pp": 1.0, "E_pm": 1.0, "sigma_p": 0.01}
 GRID_RANGES = {"matrix_fractions": (0.0, 0.5), "sigma_pm_ratios": (0.0, 100.0)}
 OPTION_NAME = re.compile(r"[A-Za-z][A-Za-z0-9_]*\Z")
@@ -179,6 +179,14 @@ def load_study(path):
     clash = RESERVED_OPTIONS & (set(study["sample"]) | set(study["fracture"]))
     if clash:
         raise bad("%s are set by the study itself", ", ".join(sorted(clash)))
+    if "strain_increment" in s:
+        # only when given, so that the hash of the other studies stays theirs
+        value = s["strain_increment"]
+        if not is_number(value) or not value > 0:
+            raise bad("strain_increment must be a number > 0, not %r", value)
+        if "fracture_increment" in study["fracture"]:
+            raise bad("give strain_increment or fracture.fracture_increment, not both")
+        study["strain_increment"] = float(value)
     study.update(read_axes(s, study["sample"], bad))
     return study
 
@@ -348,7 +356,21 @@ class Study:
         sigma_pm = run["sigma_pm_ratio"] * self.spec["phases"]["sigma_p"]
         return ["-phase_sigma_pm", repr(sigma_pm), "-fracture_calibrate", "false",
                 "-fracture_sigma_unit", repr(cal["sigma_hom"]),
-                "-fracture_modulus_unit", repr(cal["E_hom"])]
+                "-fracture_modulus_unit", repr(cal["E_hom"])] + self.increment_options(cal)
+
+    def increment_options(self, cal):
+        """-fracture_increment (in bond lengths a) that makes each load step
+        the study's strain_increment on this lattice: strain_increment
+        times L / a, with a / L the strain per unit of displacement_over_a
+        of the calibration's first step; none without strain_increment."""
+        strain = self.spec.get("strain_increment")
+        if strain is None:
+            return []
+        if not cal.get("a_over_L"):
+            raise StudyError("strain_increment needs a / L of the calibration, which this one "
+                             "does not have (made before strain_increment existed): run the "
+                             "calibrate step again in a new folder")
+        return ["-fracture_increment", "%.6g" % (strain / cal["a_over_L"])]
 
     def calibration(self, lattice):
         """sigma^[p] and E^[p] of `lattice`: those kept in the data folder
@@ -360,7 +382,8 @@ class Study:
         directory = self.calibration_dir(lattice)
         if finished_problem(directory) is not None:
             return None
-        return read_json(os.path.join(directory, SUMMARY))
+        return dict(read_json(os.path.join(directory, SUMMARY)),
+                    a_over_L=bond_length_over_height(os.path.join(directory, CURVE)))
 
     def calibrate(self, index=None):
         """Each lattice (or the one of --index): its calibration, then the
@@ -556,6 +579,20 @@ class Study:
         print("%d complete, %d failed, %d pending" % (counts["complete"], counts["failed"],
                                                       counts["pending"]))
         return counts
+
+
+def bond_length_over_height(curve):
+    """a / L of a lattice: strain over displacement_over_a at the first step
+    of a lem_fracture curve.csv on it; None if the curve has no step."""
+    from .results import read_csv
+
+    if not os.path.exists(curve):
+        return None
+    table = read_csv(curve, ("strain", "displacement_over_a"))
+    if not len(table):
+        return None
+    strain, displacement = (float(table.text(c)[0]) for c in ("strain", "displacement_over_a"))
+    return strain / displacement if displacement > 0 else None
 
 
 def pick(items, index, what):

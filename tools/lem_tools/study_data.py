@@ -38,6 +38,9 @@ CURVE_KEEP = ("strain", "stress_before_norm", "stress_norm", "broken", "n_b")
 THIN_STRAIN = 250
 THIN_VALUE = 100
 DIGITS = 6  # significant digits of the stored numbers
+# What the runs take from a lattice's calibration: the units of stress and
+# modulus, and a / L (the strain of a displacement of one bond length).
+CALIBRATION_KEEP = ("sigma_hom", "E_hom", "a_over_L")
 # Sample summary keys kept with each row (fig. 11 and the figures' subtitle).
 SAMPLE_KEEP = ("sample_particles", "particles", "side", "nodes", "bonds", "rho_m", "rho_p",
                "rho_v", "interface_ratio_Spm_Sp", "bridges_per_particle", "packing_seed",
@@ -135,7 +138,8 @@ class DataFolder:
     def write_calibration(self, tag, calibration):
         path = self.calibration_path(tag)
         os.makedirs(os.path.dirname(path), exist_ok=True)
-        write_json(path, {k: calibration[k] for k in ("sigma_hom", "E_hom") if k in calibration})
+        write_json(path, {k: calibration[k] for k in CALIBRATION_KEEP
+                                if calibration.get(k) is not None})
 
     def calibration(self, tag):
         """The calibration of lattice `tag` kept here, or None."""
@@ -168,7 +172,8 @@ class DataFolder:
             "study_hash": self.study.hash, "run": run,
             "row": {k: rounded(v) if not isinstance(v, str) else v for k, v in row.items()},
             "options": list(options),
-            "calibration": {k: calibration[k] for k in ("sigma_hom", "E_hom")},
+            "calibration": {k: calibration[k] for k in CALIBRATION_KEEP
+                                if calibration.get(k) is not None},
             "sample": dict({k: sample[k] for k in SAMPLE_KEEP if k in sample},
                            stem=os.path.splitext(os.path.basename(sample_file))[0],
                            checksum=sample_checksum(sample_file)),
