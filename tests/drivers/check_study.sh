@@ -2,14 +2,7 @@
 # tools/study.py on bad input: unknown keys, an empty grid, a results folder of
 # another study, a run that fails (reported, left out of the table, rerun).
 # Usage: check_study.sh BUILD_DIR WORKDIR
-set -u
-bin="$1"; work="$2"
-root="$(cd "$(dirname "$0")/../.." && pwd)"
-study=(/usr/bin/python3 "$root/tools/study.py")
-# the runs as jobs/mpirun.sh starts them here (root, oversubscription)
-export LEM_MPIRUN="$root/jobs/mpirun.sh" LEM_LAUNCHER=mpirun
-fail() { echo "FAIL: $*"; exit 1; }
-rm -rf "$work"; mkdir -p "$work"
+source "$(dirname "$0")/study_setup.sh"
 expect_error() {  # expect_error PATTERN COMMAND...: exit 1 (bad input), message matching PATTERN
   local pattern="$1" status; shift
   "$@" > "$work/out" 2>&1

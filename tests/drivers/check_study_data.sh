@@ -5,13 +5,7 @@
 # machine") it builds only the sample of the row it lacks and reuses the kept
 # calibration; the paper's figures redraw from the data folder alone.
 # Usage: check_study_data.sh BUILD_DIR WORKDIR
-set -u
-bin="$1"; work="$2"
-root="$(cd "$(dirname "$0")/../.." && pwd)"
-study=(/usr/bin/python3 "$root/tools/study.py")
-export LEM_MPIRUN="$root/jobs/mpirun.sh" LEM_LAUNCHER=mpirun
-fail() { echo "FAIL: $*"; exit 1; }
-rm -rf "$work"; mkdir -p "$work"
+source "$(dirname "$0")/study_setup.sh"
 cat > "$work/s.yaml" <<'YAML'
 name: data
 ranks: 1

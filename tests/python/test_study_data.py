@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from conftest import TOOLS, write_curve, write_manifest, write_study_file
-from lem_tools import study, study_data
+from lem_tools import analysis, study, study_data
 from lem_tools.study import Study
 
 ROOT = os.path.dirname(TOOLS)
@@ -225,3 +225,70 @@ def test_the_figure_command_redraws_every_figure_from_the_data(tmp_path):
     fit = json.load(open(os.path.join(out, "fit.json")))
     assert fit["runs"] == 18 and fit["points"] == 9
     assert fit["figures"]["runs_per_point"] == [2, 2]
+
+
+@pytest.fixture(scope="module")
+def tiny_figures():
+    from lem_tools import paper_figures
+    from lem_tools.plotting import plt
+
+    yield paper_figures.figures([TINY])
+    plt.close("all")
+
+
+def line(ax, label):
+    """The one line of `ax` whose label contains `label`."""
+    (found,) = [l for l in ax.get_lines() if label in l.get_label()]
+    return np.asarray(found.get_xdata(), dtype=float), np.asarray(found.get_ydata(), dtype=float)
+
+
+def test_the_paper_statements_are_drawn_on_its_figures(tiny_figures):
+    figs, rows, points, _ = tiny_figures
+    (ax,) = figs["fig03"].axes
+    x, _ = line(ax, "paper: peak")
+    assert x[0] == pytest.approx(4.0)                                  # 4e-3, in 1e-3
+    (ax,) = figs["fig05"].axes
+    stars = {l.get_label().split(":")[0]: l.get_ydata()[0] for l in ax.get_lines()
+             if l.get_marker() == "*"}
+    assert sorted(stars.values()) == pytest.approx([1.6 / 3, 2.5 / 3])  # in E^[p] = 3 E^[m]
+    a, b = figs["fig08"].axes[:2]
+    for rho, beta in ((0.06, 0.7), (0.28, 2.1)):
+        s, pdf = line(a, r"paper, $\rho^m$ = %.2f" % rho)
+        assert np.diff(np.log(pdf)) / np.diff(s) == pytest.approx(-beta)
+    (ax,) = figs["fig11"].axes
+    x, y = line(ax, "eq. 6")
+    assert y == pytest.approx(x / 0.28)
+    a = figs["fig12"].axes[0]
+    for label, slope in (("A = 0.3", 0.3), ("slope 0.2", 0.2)):
+        x, y = line(a, label)
+        assert y[1:] / x[1:] == pytest.approx(slope)
+    (ax,) = figs["fig14"].axes
+    assert line(ax, "onset")[0][0] == 0.4 and line(ax, "inflection")[0][0] == 1.0
+    c = figs["fig15"].axes[0]
+    assert line(c, "eq. 13")[1][0] == 0.4
+    # eq. 14's frontier: sigma^pm/sigma^p = 0.7^2 E^pm / (E^p E_eff/E^[p]) per rho^m
+    rhos, frontier = line(c, "eq. 14")
+    e_eff = {p["rho_m"]: p["E_eff_over_E_unit"] for p in analysis.sample_means(rows)}
+    assert list(rhos) == sorted(e_eff)
+    assert frontier == pytest.approx([0.49 / 3 / e_eff[rho] for rho in rhos])
+    a, b = figs["fig16"].axes
+    assert line(a, "eq. 14")[0][0] == 0.7 and line(b, "eq. 13")[0][0] == 0.4
+
+
+def test_the_error_bars_are_the_scatter_between_packings(tiny_figures):
+    """Two packings per grid point: fig. 9 draws their mean and standard
+    deviation of sigma_eff, as the kept rows give them."""
+    figs, rows, points, record = tiny_figures
+    assert record["figures"]["runs_per_point"] == [2, 2]
+    by_point = {}
+    for r in rows:
+        by_point.setdefault((r["rho_m"], r["sigma_pm_ratio"]), []).append(
+            r["sigma_eff_over_sigma_unit"])
+    (ax,) = figs["fig09"].axes
+    rhos = sorted({p["rho_m"] for p in points})
+    for rho, container in zip(rhos, ax.containers):
+        line_, _, (bars,) = container.lines
+        for x, y, segment in zip(line_.get_xdata(), line_.get_ydata(), bars.get_segments()):
+            values = by_point[(rho, x)]
+            assert y == pytest.approx(np.mean(values))
+            assert (segment[1][1] - segment[0][1]) / 2 == pytest.approx(np.std(values, ddof=1))

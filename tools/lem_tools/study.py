@@ -26,6 +26,9 @@ Study file keys (YAML; anything else is an error):
   phases             E_p, E_m, E_pp, E_pm, sigma_p (defaults: the paper's
                      3, 1, 1, 1 and 0.01; sigma^m = sigma^p, sigma^pp = 0)
   fracture           lem_fracture / PETSc options of every run, without the dash
+  strain_increment   load step of every run as a strain: -fracture_increment
+                     = this x L / a of the run's lattice (a / L from its
+                     calibration's first step); not with fracture_increment
 Resolution and replicate axes (optional; docs/convergence.md):
   lattice_bonds or lattice_bonds_per_particle   list of lattice sizes
   pack_seeds, lattice_seeds                     lists of lem_sample seeds
@@ -45,6 +48,14 @@ convergence.csv, convergence.md and figures/convergence_*.png.  A run is
 complete when its manifest.txt agrees with its files and its run.json matches
 the study; an interrupted run (exit 4, checkpoint written) resumes from its
 checkpoint when run again.
+
+Results kept as data (--data DATA_DIR, e.g. docs/data/<study>): every
+complete run is also kept as DATA_DIR/runs/<id>.json (study_data: its
+results.csv row, options, sample checksum, thinned curve, node-stress pdf)
+with the calibrations in DATA_DIR/calibration/; a run kept there is not run
+again, a new OUT_DIR builds only the samples of the runs it lacks and uses
+the kept calibration, and gather draws the paper's figures from DATA_DIR
+into figures/paper/ (tools/paper_figures.py draws them from the data alone).
 
 MPI launcher (environment): LEM_LAUNCHER=srun or mpirun (default: srun inside
 a Slurm allocation, else mpirun); LEM_SRUN and LEM_MPIRUN, the command of
