@@ -47,6 +47,13 @@ grep -q "^sample rho_0.2400: not needed" "$work/elsewhere.log" || fail "elsewher
 [ "$(grep -c '^calibration: .*lem_fracture' "$work/elsewhere.log")" = 0 ] || fail "elsewhere: calibrated again"
 echo "ok: elsewhere one sample, no calibration, one run"
 
+# gather there: the row kept only in the data joins the table and the figures
+"${study[@]}" gather "$work/s.yaml" "$work/elsewhere" --data "$data" > "$work/gather.log" 2>&1 ||
+  fail "gather elsewhere failed: $(tail -3 "$work/gather.log")"
+[ "$(wc -l < "$work/elsewhere/results.csv")" = 3 ] || fail "results.csv elsewhere should hold 2 runs"
+[ "$(ls "$work/elsewhere/figures/paper"/fig*.png | wc -l)" = 10 ] || fail "gather drew no paper figures"
+echo "ok: gather elsewhere: 2 rows, one of them from the data alone"
+
 # the figures from the data folder alone
 /usr/bin/python3 "$root/tools/paper_figures.py" "$data" --out "$work/figures" > "$work/figures.log" 2>&1 ||
   fail "paper_figures failed: $(tail -3 "$work/figures.log")"

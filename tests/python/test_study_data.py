@@ -3,6 +3,7 @@ resumed from them running only what they lack, and the paper's figures
 redrawn from the committed data folder of a real small study."""
 import json
 import os
+import re
 import subprocess
 import sys
 
@@ -123,7 +124,8 @@ def programs(monkeypatch):
     return fake
 
 
-def test_a_resumed_study_runs_only_the_rows_its_data_lacks(tmp_path, programs, monkeypatch):
+def test_a_resumed_study_runs_only_the_rows_its_data_lacks(tmp_path, programs, monkeypatch,
+                                                           capsys):
     monkeypatch.setattr(study, "gather", lambda s: 0)   # the figures: tested below
     path = write_study_file(tmp_path, STUDY, "d.yaml")
     data = str(tmp_path / "data")
@@ -161,8 +163,15 @@ def test_a_resumed_study_runs_only_the_rows_its_data_lacks(tmp_path, programs, m
     assert programs.ran == [("sample", "rho_0.2400"),
                             ("run", runs[3], 1.2, repr(CALIBRATION["sigma_hom"]))]
     assert len(os.listdir(os.path.join(data, "runs"))) == 4
-    # status there counts the kept rows as complete
+    # status there counts the kept rows as complete, and names a kept row
+    # whose sample differs from the one built here
     assert Study(path, elsewhere, data=data).status()["complete"] == 4
+    capsys.readouterr()
+    write_sample(os.path.join(elsewhere, "samples", "rho_0.2400.h5"), [[9, 9, 9]], "now")
+    Study(path, elsewhere, data=data).status()
+    told = capsys.readouterr().out
+    assert re.search(r"%s +kept with sample crc32:\w+, the sample here is crc32:" % runs[3], told)
+    assert "not started" not in told                # the samples of kept rows are not needed
 
 
 def test_strain_increment_sets_the_increment_of_each_lattice(tmp_path, programs, monkeypatch):

@@ -81,7 +81,7 @@ from . import cli
 from .errors import ToolError
 from .files import write_json
 from .results import CURVE, SUMMARY, ResultsError, finished_problem, read_json
-from .study_data import DataFolder
+from .study_data import DataFolder, sample_checksum
 from .study_axes import AXIS_KEYS, SUBSET_KEYS, has_axes, is_number, lattices, read_axes
 
 TOOLS = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -565,21 +565,40 @@ class Study:
     def missing_inputs(self):
         """A line per sample or calibration not made yet: failed (with its
         log's error) if it has a log, else not started."""
-        out = []
+        out, needed = [], self.needed_samples()
         for sample in self.samples():
+            if sample["stem"] not in needed:
+                continue  # its runs are kept in the data folder
             if not os.path.exists(self.sample_file(sample["lattice"], sample["rho_m"])):
                 log = os.path.join(self.out, "samples", sample["stem"] + ".log")
                 out.append(("sample %s" % sample["stem"], log))
         for lattice in self.lattices:
-            if not self.calibration(lattice):
+            if not self.calibration(lattice) and any(
+                    not self.is_complete(run) for run in self.runs()
+                    if self.lattice_of(run) is lattice):
                 name = "calibration" if lattice["tag"] is None else "calibration " + lattice["tag"]
                 out.append((name, os.path.join(self.calibration_dir(lattice), "log")))
         return ["%-28s %s" % (name, "failed or interrupted: %s (log: %s)" % (tail(log), log)
                               if os.path.exists(log) else "not started")
                 for name, log in out]
 
+    def other_samples(self):
+        """Lines for the kept rows whose sample differs from the one here
+        (other checksum of its datasets: another build or platform)."""
+        out = []
+        for run in self.runs():
+            sample = self.sample_file(self.lattice_of(run), run["rho_m"])
+            if not (self.data and self.data.has_row(run) and os.path.exists(sample)):
+                continue
+            kept = read_json(self.data.run_path(run["id"]))["sample"].get("checksum")
+            here = sample_checksum(sample)
+            if kept != here:
+                out.append("%-28s kept with sample %s, the sample here is %s"
+                           % (run["id"], kept, here))
+        return out
+
     def status(self):
-        for line in self.missing_inputs():
+        for line in self.missing_inputs() + self.other_samples():
             print(line)
         counts = {"complete": 0, "failed": 0, "pending": 0}
         for run in self.runs() + self.elastic_pulls():
