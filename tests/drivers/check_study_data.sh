@@ -1,5 +1,6 @@
 #!/bin/bash
-# A real small study kept as data (tools/study.py --data): every run's row
+# A real small study kept as data (tools/study.py --data), with its load step
+# given as a strain (strain_increment): every step is that strain; every run's row
 # is kept; with one row's run folder and row deleted the study runs that row
 # alone and gets the same numbers back; in a new output folder ("another
 # machine") it builds only the sample of the row it lacks and reuses the kept
@@ -13,6 +14,7 @@ sample: {sample_particles: 8, lattice_bonds: 6000}
 matrix_fractions: [0.13, 0.24]
 sigma_pm_ratios: [0.6]
 fracture: {fracture_stop_fraction: 0.7}
+strain_increment: 3.0e-5
 YAML
 data="$work/data"
 "${study[@]}" all "$work/s.yaml" "$work/here" --data "$data" --bin "$bin" > "$work/first.log" 2>&1 ||
@@ -20,6 +22,15 @@ data="$work/data"
 row=rho_0.2400_spm_0.6000
 [ "$(ls "$data/runs" | wc -l)" = 2 ] || fail "expected 2 kept rows: $(ls "$data/runs")"
 cp "$data/runs/$row.json" "$work/kept.json"
+# strain_increment: every step of every run is 3e-5 of strain (a / L of its sample)
+/usr/bin/python3 - "$work"/here/runs/*/curve.csv <<'PY' || fail "the load step is not the strain_increment"
+import csv, sys
+for path in sys.argv[1:]:
+    rows = list(csv.DictReader(open(path)))
+    steps = [float(r["strain"]) / int(r["step"]) for r in rows]
+    assert all(abs(s / 3e-5 - 1) < 1e-6 for s in steps), (path, min(steps), max(steps))
+print("ok: strain per step 3e-5 in every run (%d runs)" % (len(sys.argv) - 1))
+PY
 count() { grep -c "^$1 .*: .*$2" "$3"; }
 
 # the same folder: one row deleted, that row alone runs, with the same result

@@ -23,7 +23,6 @@ matrix_fractions: [0.13, 0.24]
 sigma_pm_ratios: [0.4, 1.2]
 """
 CALIBRATION = {"sigma_hom": 0.0193, "E_hom": 7.6}
-A_OVER_L = 0.1     # the fake calibration's strain per bond length of displacement
 
 
 # --- the row's content ----------------------------------------------------------
@@ -70,6 +69,18 @@ def test_sample_checksum_is_of_the_data_not_of_the_file(tmp_path):
 
 # --- a study resumed from its data ------------------------------------------------
 
+def write_lattice(path, rho):
+    """A sample file of two bonds in a box of height 2: a solid bond of
+    length 0.2 (so a / L = 0.1) and a void one of length 1 + rho."""
+    import h5py
+
+    with h5py.File(path, "w") as f:
+        f["nodes/coordinates"] = np.array([[0, 0, 0], [0, 0, 0.2], [1 + rho, 0, 0]])
+        f["bonds/connectivity"] = np.array([[0, 1], [0, 2]])
+        f["bonds/phase"] = np.array([0, 2])          # p, v (phases.PHASES)
+        f.attrs["box_lo"], f.attrs["box_hi"] = [0.0, 0.0, 0.0], [2.0, 2.0, 2.0]
+
+
 class FakePrograms:
     """study.execute standing in for lem_sample and lem_fracture: writes what
     they write (a sample, a calibration, a complete run) and records what ran."""
@@ -83,7 +94,7 @@ class FakePrograms:
         if program == "lem_sample":
             out, stem = opts["-output_dir"], opts["-output_stem"]
             rho = float(opts["-matrix_fraction"])
-            write_sample(os.path.join(out, stem + ".h5"), [[rho, 0, 0]], "now")
+            write_lattice(os.path.join(out, stem + ".h5"), rho)
             with open(os.path.join(out, stem + "_summary.json"), "w") as f:
                 json.dump({"bonds": 6000, "sample_particles": 8, "packing_seed": 1,
                            "lattice_seed": 1, "interface_ratio_Spm_Sp": rho / 0.28}, f)
@@ -93,8 +104,7 @@ class FakePrograms:
         if opts.get("-fracture_max_steps") == "1":
             with open(os.path.join(out, "summary.json"), "w") as f:
                 json.dump(CALIBRATION, f)
-            write_curve(os.path.join(out, "curve.csv"), [(3e-4 * A_OVER_L, 0.1, 0.1, 0, 0, 1, 0)])
-            write_manifest(out, ("summary.json", "curve.csv"))
+            write_manifest(out, ("summary.json",))
             self.ran.append(("calibration", None))
             return 0
         ratio = float(opts["-phase_sigma_pm"]) / 0.01
@@ -142,8 +152,7 @@ def test_a_resumed_study_runs_only_the_rows_its_data_lacks(tmp_path, programs, m
     assert kept["sample"]["checksum"] == study_data.sample_checksum(
         os.path.join(first, "samples", "rho_0.1300.h5"))
     assert kept["curve"]["columns"][0] == "strain" and len(kept["curve"]["rows"]) == 6
-    assert json.load(open(os.path.join(data, "calibration", "default.json"))) == dict(
-        CALIBRATION, a_over_L=pytest.approx(A_OVER_L))
+    assert json.load(open(os.path.join(data, "calibration", "default.json"))) == CALIBRATION
 
     # here again, one row's run folder and data deleted: that row alone runs
     import shutil
@@ -176,12 +185,12 @@ def test_a_resumed_study_runs_only_the_rows_its_data_lacks(tmp_path, programs, m
 
 def test_strain_increment_sets_the_increment_of_each_lattice(tmp_path, programs, monkeypatch):
     """strain_increment: each run's -fracture_increment (in bond lengths a)
-    is the strain step times L / a, a / L measured by the calibration; the
-    default increment is left alone without it."""
+    is the strain step times L / a of its sample, a the mean length of its
+    solid bonds; the default increment is left alone without it."""
     monkeypatch.setattr(study, "gather", lambda s: 0)
     path = write_study_file(tmp_path, STUDY + "strain_increment: 2.0e-5\n", "d.yaml")
     assert study.main(["all", path, str(tmp_path / "out")]) == 0
-    assert programs.increments == ["0.0002"] * 4                 # 2e-5 / 0.1
+    assert [float(i) for i in programs.increments] == pytest.approx([2e-4] * 4)  # 2e-5 / 0.1
     programs.increments.clear()
     path = write_study_file(tmp_path, STUDY, "plain.yaml")
     assert study.main(["all", path, str(tmp_path / "plain")]) == 0

@@ -27,8 +27,8 @@ Study file keys (YAML; anything else is an error):
                      3, 1, 1, 1 and 0.01; sigma^m = sigma^p, sigma^pp = 0)
   fracture           lem_fracture / PETSc options of every run, without the dash
   strain_increment   load step of every run as a strain: -fracture_increment
-                     = this x L / a of the run's lattice (a / L from its
-                     calibration's first step); not with fracture_increment
+                     = this x L / a of the run's sample (a the mean length of
+                     its solid bonds, L its height); not with fracture_increment
 Resolution and replicate axes (optional; docs/convergence.md):
   lattice_bonds or lattice_bonds_per_particle   list of lattice sizes
   pack_seeds, lattice_seeds                     lists of lem_sample seeds
@@ -80,7 +80,7 @@ import yaml
 from . import cli
 from .errors import ToolError
 from .files import write_json
-from .results import CURVE, SUMMARY, ResultsError, finished_problem, read_json
+from .results import SUMMARY, ResultsError, finished_problem, read_json
 from .study_data import DataFolder, sample_checksum
 from .study_axes import AXIS_KEYS, SUBSET_KEYS, has_axes, is_number, lattices, read_axes
 
@@ -367,21 +367,17 @@ class Study:
         sigma_pm = run["sigma_pm_ratio"] * self.spec["phases"]["sigma_p"]
         return ["-phase_sigma_pm", repr(sigma_pm), "-fracture_calibrate", "false",
                 "-fracture_sigma_unit", repr(cal["sigma_hom"]),
-                "-fracture_modulus_unit", repr(cal["E_hom"])] + self.increment_options(cal)
+                "-fracture_modulus_unit", repr(cal["E_hom"])] + self.increment_options(run)
 
-    def increment_options(self, cal):
+    def increment_options(self, run):
         """-fracture_increment (in bond lengths a) that makes each load step
-        the study's strain_increment on this lattice: strain_increment
-        times L / a, with a / L the strain per unit of displacement_over_a
-        of the calibration's first step; none without strain_increment."""
+        of `run` the study's strain_increment: strain_increment times L / a
+        of its sample; none without strain_increment."""
         strain = self.spec.get("strain_increment")
         if strain is None:
             return []
-        if not cal.get("a_over_L"):
-            raise StudyError("strain_increment needs a / L of the calibration, which this one "
-                             "does not have (made before strain_increment existed): run the "
-                             "calibrate step again in a new folder")
-        return ["-fracture_increment", "%.6g" % (strain / cal["a_over_L"])]
+        sample = self.sample_file(self.lattice_of(run), run["rho_m"])
+        return ["-fracture_increment", repr(strain / bond_length_over_height(sample))]
 
     def calibration(self, lattice):
         """sigma^[p] and E^[p] of `lattice`: those kept in the data folder
@@ -393,8 +389,7 @@ class Study:
         directory = self.calibration_dir(lattice)
         if finished_problem(directory) is not None:
             return None
-        return dict(read_json(os.path.join(directory, SUMMARY)),
-                    a_over_L=bond_length_over_height(os.path.join(directory, CURVE)))
+        return read_json(os.path.join(directory, SUMMARY))
 
     def calibrate(self, index=None):
         """Each lattice (or the one of --index): its calibration, then the
@@ -546,7 +541,10 @@ class Study:
             return
         from .study_table import folder_row  # numpy and the results readers
 
-        cal = self.calibration(self.lattice_of(run))
+        lattice = self.lattice_of(run)
+        cal = self.calibration(lattice)
+        if self.data.calibration(lattice["tag"]) is None:
+            self.data.write_calibration(lattice["tag"], cal)
         self.data.write_row(run, folder_row(self, run), self.fracture_options(
             self.run_options(run, cal)), self.run_dir(run),
             self.sample_file(self.lattice_of(run), run["rho_m"]), cal)
@@ -611,18 +609,25 @@ class Study:
         return counts
 
 
-def bond_length_over_height(curve):
-    """a / L of a lattice: strain over displacement_over_a at the first step
-    of a lem_fracture curve.csv on it; None if the curve has no step."""
-    from .results import read_csv
+def bond_length_over_height(sample):
+    """a / L of a sample file: the mean length of its bonds but the void ones
+    (lem_fracture's a, the unit of -fracture_increment) over the height of
+    its box (the strain of a unit displacement of the top face)."""
+    import numpy as np
 
-    if not os.path.exists(curve):
-        return None
-    table = read_csv(curve, ("strain", "displacement_over_a"))
-    if not len(table):
-        return None
-    strain, displacement = (float(table.text(c)[0]) for c in ("strain", "displacement_over_a"))
-    return strain / displacement if displacement > 0 else None
+    from .phases import PHASES
+    from .results import read_hdf5
+
+    d = read_hdf5(sample, ("bonds/connectivity", "bonds/phase", "nodes/coordinates"),
+                  ("box_lo", "box_hi"))
+    ends = d["bonds/connectivity"]
+    kept = d["bonds/phase"] != PHASES.index("v")
+    xyz = d["nodes/coordinates"]
+    lengths = np.linalg.norm(xyz[ends[kept, 0]] - xyz[ends[kept, 1]], axis=1)
+    height = float(d["box_hi"][2] - d["box_lo"][2])
+    if not lengths.size or not height > 0:
+        raise StudyError("%s: no solid bond or an empty box, so no bond length a" % sample)
+    return float(lengths.mean()) / height
 
 
 def pick(items, index, what):

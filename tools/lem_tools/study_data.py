@@ -38,9 +38,8 @@ CURVE_KEEP = ("strain", "stress_before_norm", "stress_norm", "broken", "n_b")
 THIN_STRAIN = 250
 THIN_VALUE = 100
 DIGITS = 6  # significant digits of the stored numbers
-# What the runs take from a lattice's calibration: the units of stress and
-# modulus, and a / L (the strain of a displacement of one bond length).
-CALIBRATION_KEEP = ("sigma_hom", "E_hom", "a_over_L")
+# What the runs take from a lattice's calibration: the units of stress and modulus.
+CALIBRATION_KEEP = ("sigma_hom", "E_hom")
 # Sample summary keys kept with each row (fig. 11 and the figures' subtitle).
 SAMPLE_KEEP = ("sample_particles", "particles", "side", "nodes", "bonds", "rho_m", "rho_p",
                "rho_v", "interface_ratio_Spm_Sp", "bridges_per_particle", "packing_seed",
