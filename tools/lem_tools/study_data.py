@@ -17,6 +17,7 @@ The sample checksum is a CRC-32 of the sample file's datasets (not of the
 file: HDF5 keeps timestamps and lem_sample its timings in attributes), so
 the same options give the same checksum on any machine with the same build.
 """
+import json
 import os
 import socket
 import zlib
@@ -25,7 +26,7 @@ import numpy as np
 
 from .analysis import node_stress_statistics, stress_pdf
 from .errors import ToolError
-from .files import write_json
+from .files import atomic_open, write_json
 from .results import (CURVE, ELASTIC, ResultsError, read_curve, read_elastic, read_json)
 
 FORMAT = "lem3d study data"
@@ -54,8 +55,8 @@ def rounded(value):
     """`value` (a number or nested lists of them) to DIGITS significant digits."""
     if isinstance(value, (list, tuple, np.ndarray)):
         return [rounded(v) for v in value]
-    if isinstance(value, (bool, str)) or value is None:
-        return value
+    if isinstance(value, (bool, str, int, np.integer)) or value is None:
+        return value if not isinstance(value, np.integer) else int(value)
     value = float(value)
     if not np.isfinite(value):
         return None  # JSON has no NaN
@@ -100,6 +101,33 @@ def sample_checksum(path):
     except OSError as e:
         raise DataError("cannot read the sample %s: %s" % (path, e)) from None
     return "crc32:%08x" % crc
+
+
+def is_flat_list(value):
+    """A list of numbers or texts (no list or mapping in it)."""
+    return isinstance(value, list) and all(
+        v is None or isinstance(v, (int, float, str)) for v in value)
+
+
+def data_text(data):
+    """`data` as indented JSON with each flat list on one line (a curve row, a
+    histogram, the options), which keeps a row file small and readable."""
+    lists = {}
+
+    def mark(value):
+        if is_flat_list(value):
+            key = "@%d@" % len(lists)
+            lists[key] = json.dumps(value, separators=(",", ":"))
+            return key
+        if isinstance(value, dict):
+            return {k: mark(v) for k, v in value.items()}
+        if isinstance(value, list):
+            return [mark(v) for v in value]
+        return value
+    text = json.dumps(mark(data), indent=1)
+    for key, compact in lists.items():
+        text = text.replace('"%s"' % key, compact, 1)
+    return text + "\n"
 
 
 def lattice_name(tag):
@@ -182,7 +210,8 @@ class DataFolder:
             "host": socket.gethostname(),
         }
         os.makedirs(os.path.dirname(self.run_path(run["id"])), exist_ok=True)
-        write_json(self.run_path(run["id"]), data)
+        with atomic_open(self.run_path(run["id"])) as f:
+            f.write(data_text(data))
         return data
 
     def remove_row(self, run_id):
