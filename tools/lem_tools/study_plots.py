@@ -6,6 +6,7 @@ the figures are drawn at) their mean with ±1 standard deviation as error
 bars.  The paper's values are stars (paper.paper_values) and the subtitle
 says the resolution (study_table.figures_resolution)."""
 import os
+import textwrap
 
 import numpy as np
 
@@ -81,7 +82,9 @@ def resolution_text(resolution):
 
 def finish(fig, resolution):
     """The subtitle, and the panels laid out below it."""
-    fig.suptitle(resolution_text(resolution), fontsize=11)
+    # wrapped to the figure's width (about 13 characters an inch at this size)
+    fig.suptitle(textwrap.fill(resolution_text(resolution), int(13 * fig.get_figwidth())),
+                 fontsize=11)
     fig.tight_layout()  # leaves room for the subtitle
     return fig
 
