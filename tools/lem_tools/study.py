@@ -729,10 +729,23 @@ def do(args):
 
 def gather(study):
     """The gather step (study_table), imported here so that the other steps,
-    run once per Slurm task, do not load matplotlib."""
+    run once per Slurm task, do not load matplotlib; with a data folder,
+    the rows of the runs complete here that it lacks are added to it and
+    the paper's figures drawn from it (paper_figures) into figures/paper/."""
     from .study_table import gather as write_table_and_figures
 
-    return write_table_and_figures(study)
+    status = write_table_and_figures(study)
+    if study.data:
+        from .paper_figures import draw_folders
+
+        for run in study.runs():
+            if study.folder_complete(run):
+                study.keep(run)
+        if study.data.rows():
+            out = os.path.join(study.out, "figures", "paper")
+            draw_folders([study.data.path], out)
+            print("gather: the paper's figures from %s -> %s" % (study.data.path, out))
+    return status
 
 
 def main(argv=None):

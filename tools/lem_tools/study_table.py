@@ -174,13 +174,4 @@ def gather(study):
         print("gather: %d samples -> samples.csv; %d quantity x grid points -> "
               "convergence.csv, convergence_levels.csv, convergence.md, "
               "figures/convergence_*.png" % (len(samples), len(extrapolated)))
-    if study.data:
-        for run in study.runs():
-            if study.folder_complete(run):
-                study.keep(run)
-        from .paper_figures import draw_folders
-
-        paths = draw_folders([study.data.path], os.path.join(study.out, "figures", "paper"))
-        print("gather: the paper's figures from %s -> %s" % (study.data.path,
-                                                             os.path.dirname(paths[0])))
     return 1 if missing else 0
