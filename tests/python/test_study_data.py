@@ -71,11 +71,12 @@ def test_sample_checksum_is_of_the_data_not_of_the_file(tmp_path):
 
 def write_lattice(path, rho):
     """A sample file of two bonds in a box of height 2: a solid bond of
-    length 0.2 (so a / L = 0.1) and a void one of length 1 + rho."""
+    length 0.1 and a void one of length 0.3, so a / L = 0.1 (a counts the
+    void bonds); a node without bonds at rho."""
     import h5py
 
     with h5py.File(path, "w") as f:
-        f["nodes/coordinates"] = np.array([[0, 0, 0], [0, 0, 0.2], [1 + rho, 0, 0]])
+        f["nodes/coordinates"] = np.array([[0, 0, 0], [0, 0, 0.1], [0.3, 0, 0], [rho, 1, 1]])
         f["bonds/connectivity"] = np.array([[0, 1], [0, 2]])
         f["bonds/phase"] = np.array([0, 2])          # p, v (phases.PHASES)
         f.attrs["box_lo"], f.attrs["box_hi"] = [0.0, 0.0, 0.0], [2.0, 2.0, 2.0]
@@ -186,7 +187,7 @@ def test_a_resumed_study_runs_only_the_rows_its_data_lacks(tmp_path, programs, m
 def test_strain_increment_sets_the_increment_of_each_lattice(tmp_path, programs, monkeypatch):
     """strain_increment: each run's -fracture_increment (in bond lengths a)
     is the strain step times L / a of its sample, a the mean length of its
-    solid bonds; the default increment is left alone without it."""
+    bonds, void ones included; the default increment is left alone without it."""
     monkeypatch.setattr(study, "gather", lambda s: 0)
     path = write_study_file(tmp_path, STUDY + "strain_increment: 2.0e-5\n", "d.yaml")
     assert study.main(["all", path, str(tmp_path / "out")]) == 0

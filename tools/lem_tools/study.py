@@ -28,7 +28,7 @@ Study file keys (YAML; anything else is an error):
   fracture           lem_fracture / PETSc options of every run, without the dash
   strain_increment   load step of every run as a strain: -fracture_increment
                      = this x L / a of the run's sample (a the mean length of
-                     its solid bonds, L its height); not with fracture_increment
+                     its bonds, L its height); not with fracture_increment
 Resolution and replicate axes (optional; docs/convergence.md):
   lattice_bonds or lattice_bonds_per_particle   list of lattice sizes
   pack_seeds, lattice_seeds                     lists of lem_sample seeds
@@ -610,23 +610,20 @@ class Study:
 
 
 def bond_length_over_height(sample):
-    """a / L of a sample file: the mean length of its bonds but the void ones
-    (lem_fracture's a, the unit of -fracture_increment) over the height of
-    its box (the strain of a unit displacement of the top face)."""
+    """a / L of a sample file: the mean length of every row of its /bonds,
+    void bonds included (lem_fracture's a, the unit of -fracture_increment),
+    over the height of its box (the strain of a unit displacement of the
+    top face)."""
     import numpy as np
 
-    from .phases import PHASES
     from .results import read_hdf5
 
-    d = read_hdf5(sample, ("bonds/connectivity", "bonds/phase", "nodes/coordinates"),
-                  ("box_lo", "box_hi"))
-    ends = d["bonds/connectivity"]
-    kept = d["bonds/phase"] != PHASES.index("v")
-    xyz = d["nodes/coordinates"]
-    lengths = np.linalg.norm(xyz[ends[kept, 0]] - xyz[ends[kept, 1]], axis=1)
+    d = read_hdf5(sample, ("bonds/connectivity", "nodes/coordinates"), ("box_lo", "box_hi"))
+    ends, xyz = d["bonds/connectivity"], d["nodes/coordinates"]
+    lengths = np.linalg.norm(xyz[ends[:, 0]] - xyz[ends[:, 1]], axis=1)
     height = float(d["box_hi"][2] - d["box_lo"][2])
     if not lengths.size or not height > 0:
-        raise StudyError("%s: no solid bond or an empty box, so no bond length a" % sample)
+        raise StudyError("%s: no bond or an empty box, so no bond length a" % sample)
     return float(lengths.mean()) / height
 
 
