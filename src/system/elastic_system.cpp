@@ -7,6 +7,7 @@
 #include "lem/base/error.hpp"
 #include "lem/base/log.hpp"
 #include "lem/base/options.hpp"
+#include "lem/system/single_cycle.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -114,6 +115,8 @@ ElasticSystem::ElasticSystem(DistributedLattice& lattice, const SolverOptions& o
     LEM_PETSC(PCSetUseAmat(pc, PETSC_TRUE));
   }
   set_from_options(ksp_);
+  if (options.single_cycle)
+    single_cycle_ = std::make_unique<SingleCycle>(lattice_, ground_, diagonal_scale_, ksp_);
   if (options.particle_deflation)
     deflation_ = std::make_unique<ParticleDeflation>(lattice_, K_, ksp_);
   install_convergence_test();

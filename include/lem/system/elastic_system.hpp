@@ -23,6 +23,7 @@ namespace lem {
 
 class ParticleDeflation;
 class BondOperator;
+class SingleCycle;
 
 /// The operator CG applies: the assembled matrix K, or K applied bond by bond
 /// (the preconditioner is built from the assembled K either way).
@@ -75,6 +76,9 @@ struct SolverOptions {
   bool particle_deflation = false;
   /// -solver_operator: what CG multiplies by.
   SolverOperator solver_operator = SolverOperator::bonds;
+  /// -solver_cycle_precision single: the multigrid cycle in float
+  /// (lem/system/single_cycle.hpp); CG stays in double.
+  bool single_cycle = false;
 };
 /// Read -lattice_ground_stiffness and record the solver defaults (CG +
 /// GAMG, ...) in the option registry, so that -help and the provenance show
@@ -202,6 +206,7 @@ class ElasticSystem {
   KspHandle fallback_ksp_;  // CG + Jacobi, for solves the multigrid fails
   std::unique_ptr<ParticleDeflation> deflation_;  // -solver_particle_deflation
   std::unique_ptr<BondOperator> bonds_;  // -solver_operator bonds
+  std::unique_ptr<SingleCycle> single_cycle_;  // -solver_cycle_precision single
   double diagonal_scale_ = 1.0;
   double ground_ = 0.0;  // diagonal added on free dofs (-lattice_ground_stiffness)
   double current_displacement_ = 0.0;

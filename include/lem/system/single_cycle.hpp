@@ -1,0 +1,91 @@
+// The multigrid cycle of the elastic solver applied in single precision
+// (-solver_cycle_precision single).
+//
+// CG stays in double precision with its double operator; only the
+// preconditioner changes.  At every build of the preconditioner GAMG builds
+// its hierarchy from K as always; this object then copies what one cycle
+// reads into float: the fine level as the bond arrays (two 32-bit node
+// indices and sqrt(k) n per bond, 20 bytes instead of 40), every coarser
+// operator, interpolation and restriction as a block-sparse matrix of float
+// blocks (the 6 x 6 blocks of the rigid-body aggregates, one 32-bit index per
+// block: about 4 bytes per nonzero instead of 12), and each Chebyshev/Jacobi
+// smoother as its inverse diagonal and step.  It then applies the same
+// cycle (V or W, one smoothing step before and after, the coarsest grid
+// solved by GAMG's own double-precision solver) with float matrices and
+// double vectors: the ghost exchanges stay PETSc's scatters.  The cycle is
+// a fixed symmetric positive definite operator, which is all CG needs; the
+// solution is as accurate as with the double cycle (the residual CG tests
+// is the double one).
+//
+// Supported smoothers: GAMG's default Chebyshev with Jacobi, one sweep per
+// level (-mg_levels_ksp_max_it 1, the solver's default); other settings are
+// refused with a message naming them.
+#pragma once
+
+#include "lem/system/distributed_lattice.hpp"
+#include "lem/base/petsc_handle.hpp"
+
+#include <petscksp.h>
+
+#include <memory>
+#include <vector>
+
+namespace lem {
+
+class SingleCycle {
+ public:
+  /// Wraps `ksp`'s current preconditioner (a GAMG or MG, kept as the inner
+  /// PC and built by it) in a shell that applies its cycle in float.
+  /// `ground` and `scale` are the diagonal values of free and fixed dofs
+  /// (as ElasticSystem assembles them).
+  SingleCycle(const DistributedLattice& lattice, double ground, double scale, KSP ksp);
+  ~SingleCycle();
+  SingleCycle(const SingleCycle&) = delete;
+  SingleCycle& operator=(const SingleCycle&) = delete;
+
+  /// The single-precision cycle (true, the default) or the inner
+  /// double-precision multigrid itself (false): benchmarks compare both.
+  void use_single(bool single) { single_ = single; }
+  bool single() const { return single_; }
+
+  /// The object behind `ksp`'s preconditioner, or nullptr if it is none.
+  static SingleCycle* of(KSP ksp);
+  /// The inner (double-precision) multigrid.
+  PC inner() const { return inner_; }
+
+  /// Counts and times of the float cycle, per level, finest first, since
+  /// the last reset (PCApply calls).
+  struct LevelStats {
+    long long rows = 0, nonzeros = 0;  // global (fine level: 9 per bond, as K's blocks)
+    double visits = 0;                 // cycle visits
+    double products = 0;               // operator products (smoother + residual)
+    double transfers = 0;              // restriction + interpolation products
+    double seconds = 0;                // max over ranks
+    double bytes = 0;                  // model, summed over ranks
+  };
+  std::vector<LevelStats> level_stats() const;
+  double applications() const { return applications_; }
+  void reset_stats();
+  /// Bytes of this rank's float copies.
+  double memory_bytes() const;
+
+ private:
+  struct Level;
+  struct FloatBonds;
+  static PetscErrorCode shell_setup(PC pc);
+  static PetscErrorCode shell_apply(PC pc, Vec b, Vec x);
+  void build();
+  void cycle(int level, bool zero_guess);
+  void residual(int level, Vec b, Vec x, Vec r);  // r = b - A x
+
+  const DistributedLattice& lattice_;
+  double ground_, scale_;
+  PC inner_ = nullptr;  // a reference of our own
+  bool single_ = true;
+  int cycles_ = 2;      // 1 V, 2 W
+  std::vector<std::unique_ptr<Level>> levels_;  // coarsest first, as PCMG numbers them
+  std::unique_ptr<FloatBonds> fine_;
+  double applications_ = 0;
+};
+
+}  // namespace lem
