@@ -1,11 +1,14 @@
 #include "lem/bench/benchmark.hpp"
 
+#include "level_accounting.hpp"
+
 #include "lem/base/driver.hpp"
 #include "lem/base/error.hpp"
 #include "lem/base/log.hpp"
 #include "lem/base/options.hpp"
 #include "lem/base/petsc_handle.hpp"
 #include "lem/lattice/voronoi.hpp"
+#include "lem/system/single_cycle.hpp"
 
 #include <algorithm>
 #include <array>
@@ -69,10 +72,17 @@ double stream_triad_gbs(MPI_Comm comm, double mb) {
   return 24.0 * static_cast<double>(n) * size / best / 1e9;
 }
 
-// Rows and nonzeros of each multigrid level, finest first (PCMG/PCGAMG only).
-void print_levels(KSP ksp) {
+// The multigrid of `ksp`: its PC, or the one inside the single-precision cycle.
+PC multigrid(KSP ksp) {
+  if (SingleCycle* cycle = SingleCycle::of(ksp)) return cycle->inner();
   PC pc;
   LEM_PETSC(KSPGetPC(ksp, &pc));
+  return pc;
+}
+
+// Rows and nonzeros of each multigrid level, finest first (PCMG/PCGAMG only).
+void print_levels(KSP ksp) {
+  PC pc = multigrid(ksp);
   PetscBool mg = PETSC_FALSE;
   LEM_PETSC(PetscObjectTypeCompareAny(reinterpret_cast<PetscObject>(pc), &mg, PCGAMG, PCMG, ""));
   if (!mg) return;
@@ -106,8 +116,7 @@ void print_levels(KSP ksp) {
 // finest level's operators of its set-up.
 void use_fine_operator(KSP ksp, Mat A, Mat P) {
   LEM_PETSC(KSPSetOperators(ksp, A, P));
-  PC pc;
-  LEM_PETSC(KSPGetPC(ksp, &pc));
+  PC pc = multigrid(ksp);
   PetscInt levels = 0;
   LEM_PETSC(PCMGGetLevels(pc, &levels));
   if (levels < 2) return;
@@ -192,6 +201,12 @@ void run_tension_benchmark(MPI_Comm comm, SampleOptions sample, const BenchOptio
            max_over_mean(lattice.owned), max_over_mean(lattice.local_bonds()), seconds_setup);
 
   const double delta = 3e-4 * lattice.mean_bond_length;
+  // The events of every multigrid level (the per-level accounting).
+  {
+    PetscBool set = PETSC_FALSE;
+    LEM_PETSC(PetscOptionsHasName(nullptr, nullptr, "-pc_mg_log", &set));
+    if (!set) LEM_PETSC(PetscOptionsSetValue(nullptr, "-pc_mg_log", "true"));
+  }
   ElasticSystem* sys = nullptr;
   const double t_create = timed(comm, [&] { sys = new ElasticSystem(lattice, solver); });
   std::unique_ptr<ElasticSystem> owner(sys);
@@ -204,6 +219,8 @@ void run_tension_benchmark(MPI_Comm comm, SampleOptions sample, const BenchOptio
   PC pc;
   LEM_PETSC(KSPGetPC(ksp, &pc));
   print_levels(ksp);
+  // The figures up to the per-level accounting are those of the double cycle.
+  if (SingleCycle* cycle = SingleCycle::of(ksp)) cycle->use_single(false);
 
   // b = K u reproduces the right-hand side of the problem just solved.
   VecHandle x, b;
@@ -311,6 +328,7 @@ void run_tension_benchmark(MPI_Comm comm, SampleOptions sample, const BenchOptio
   const auto messages = over_ranks(perf.numMessages * per_iteration);
   const auto message_bytes = over_ranks(perf.messageLength * per_iteration);
   const auto reductions = over_ranks(perf.numReductions * per_iteration);
+  account_levels(comm, *sys, lattice, solver, b, delta, repeat);
   x.reset();
   b.reset();
 

@@ -6,6 +6,8 @@
 #include "lem/base/error.hpp"
 #include "lem/system/tension.hpp"
 
+#include <petsc/private/petscimpl.h>  // PetscObjectStateGet (public from PETSc 3.19)
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -215,7 +217,8 @@ struct SingleCycle::FloatBonds {
   double ground, scale;
   std::vector<std::int32_t> order;  // bonds sorted by their lower local end
   std::vector<std::int32_t> i, j;
-  std::vector<float> mx, my, mz;
+  std::vector<float> nx, ny, nz;  // unit directions
+  std::vector<float> mx, my, mz;  // sqrt(k) n, the arrays a product reads
   std::vector<std::uint8_t> free;  // per local dof
   VecHandle x_ghosted;
   mutable std::vector<double> acc;
@@ -234,24 +237,40 @@ struct SingleCycle::FloatBonds {
     acc.resize(3 * static_cast<std::size_t>(lattice.local_nodes()));
   }
 
-  // The stiffnesses and constraints of now (at every build of the cycle).
+  // The directions and end nodes (at every build of the cycle).
   void read() {
     const std::size_t bonds = order.size();
     i.resize(bonds);
     j.resize(bonds);
-    mx.resize(bonds);
-    my.resize(bonds);
-    mz.resize(bonds);
+    nx.resize(bonds);
+    ny.resize(bonds);
+    nz.resize(bonds);
     for (std::size_t s = 0; s < bonds; ++s) {
       const int b = order[s];
       double n[3];
       bond_direction(lattice, b, n);
-      const double root = std::sqrt(std::max(lattice.bond_stiffness[b], 0.0));
       i[s] = lattice.bond_ends[b][0];
       j[s] = lattice.bond_ends[b][1];
-      mx[s] = static_cast<float>(root * n[0]);
-      my[s] = static_cast<float>(root * n[1]);
-      mz[s] = static_cast<float>(root * n[2]);
+      nx[s] = static_cast<float>(n[0]);
+      ny[s] = static_cast<float>(n[1]);
+      nz[s] = static_cast<float>(n[2]);
+    }
+    refresh();
+  }
+  // The stiffnesses and constraints of now: before every solve, since the
+  // double cycle's fine level is the operator of CG, which follows every
+  // rupture and pinned node even while the multigrid is kept.
+  void refresh() {
+    const std::size_t bonds = order.size();
+    mx.resize(bonds);
+    my.resize(bonds);
+    mz.resize(bonds);
+    for (std::size_t s = 0; s < bonds; ++s) {
+      const float root =
+          static_cast<float>(std::sqrt(std::max(lattice.bond_stiffness[order[s]], 0.0)));
+      mx[s] = root * nx[s];
+      my[s] = root * ny[s];
+      mz[s] = root * nz[s];
     }
     free.resize(3 * static_cast<std::size_t>(lattice.local_nodes()));
     for (int n = 0; n < lattice.local_nodes(); ++n)
@@ -314,7 +333,7 @@ struct SingleCycle::FloatBonds {
   }
 
   double memory_bytes() const {
-    return 20.0 * static_cast<double>(i.size()) + 4.0 * static_cast<double>(order.size()) +
+    return 32.0 * static_cast<double>(i.size()) + 4.0 * static_cast<double>(order.size()) +
            static_cast<double>(free.size()) + 8.0 * static_cast<double>(acc.size());
   }
   // Bond arrays; the masked copy (x read, mask, copy written), the
@@ -334,6 +353,8 @@ struct SingleCycle::Level {
   std::vector<float> dinv;  // Jacobi of the smoother
   double step = 0;          // Chebyshev step of one sweep: x += step D^-1 (b - A x)
   KSP coarse = nullptr;     // the coarsest level: GAMG's own solver (double)
+  KSP smoother = nullptr;   // the others: GAMG's smoother, probed
+  PetscObjectState operator_state = 0;  // of the smoother's matrix when probed
   long long rows = 0;
   double nonzeros = 0;
   double visits = 0, products = 0, transfers = 0, seconds = 0, bytes = 0;
@@ -353,6 +374,7 @@ SingleCycle::SingleCycle(const DistributedLattice& lattice, double ground, doubl
                                  "preconditioner (-pc_type gamg or mg), not -pc_type ") +
                      (type ? type : "(none)"));
   }
+  check_smoother_options();
   LEM_PETSC(PetscObjectReference(reinterpret_cast<PetscObject>(inner_)));
   Mat A = nullptr, P = nullptr;
   LEM_PETSC(KSPGetOperators(ksp, &A, &P));
@@ -365,12 +387,33 @@ SingleCycle::SingleCycle(const DistributedLattice& lattice, double ground, doubl
   LEM_PETSC(PCShellSetContext(shell, this));
   LEM_PETSC(PCShellSetSetUp(shell, shell_setup));
   LEM_PETSC(PCShellSetApply(shell, shell_apply));
+  LEM_PETSC(PCShellSetPreSolve(shell, shell_presolve));
   LEM_PETSC(KSPSetPC(ksp, shell));  // the KSP takes its own reference
   LEM_PETSC(PCDestroy(&shell));
   LEM_PETSC(KSPSetOperators(ksp, A, P));
   MatDestroy(&A);
   MatDestroy(&P);
   fine_ = std::make_unique<FloatBonds>(lattice_, ground_, scale_);
+}
+
+// The smoothers the float cycle copies, checked before any work (the build
+// checks the smoother objects again).
+void SingleCycle::check_smoother_options() {
+  const struct {
+    const char *name, *wanted;
+  } kept[] = {{"-mg_levels_ksp_type", "chebyshev"},
+              {"-mg_levels_pc_type", "jacobi"},
+              {"-mg_levels_ksp_max_it", "1"}};
+  for (const auto& k : kept) {
+    char value[64] = "";
+    PetscBool set = PETSC_FALSE;
+    LEM_PETSC(PetscOptionsGetString(nullptr, nullptr, k.name, value, sizeof value, &set));
+    if (set && std::strcmp(value, k.wanted) != 0)
+      throw InputError(std::string("-solver_cycle_precision single supports the smoother of "
+                                   "the default solver only (-mg_levels_ksp_type chebyshev "
+                                   "-mg_levels_pc_type jacobi -mg_levels_ksp_max_it 1), not ") +
+                       k.name + " " + value);
+  }
 }
 
 SingleCycle::~SingleCycle() { PCDestroy(&inner_); }
@@ -410,6 +453,25 @@ PetscErrorCode SingleCycle::shell_setup(PC pc) {
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode SingleCycle::shell_presolve(PC pc, KSP, Vec, Vec) {
+  PetscFunctionBeginUser;
+  SingleCycle* s = nullptr;
+  PetscCall(PCShellGetContext(pc, &s));
+  if (!s->single_ || s->levels_.empty()) PetscFunctionReturn(0);
+  try {
+    s->fine_->refresh();
+    Level& fine = *s->levels_.back();
+    Mat Pmat = nullptr;
+    PetscObjectState state = 0;
+    PetscCall(KSPGetOperators(fine.smoother, nullptr, &Pmat));
+    PetscCall(PetscObjectStateGet(reinterpret_cast<PetscObject>(Pmat), &state));
+    if (state != fine.operator_state) s->probe_smoother(fine);
+  } catch (const std::exception& e) {
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_LIB, "%s", e.what());
+  }
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode SingleCycle::shell_apply(PC pc, Vec b, Vec x) {
   PetscFunctionBeginUser;
   SingleCycle* s = nullptr;
@@ -419,12 +481,14 @@ PetscErrorCode SingleCycle::shell_apply(PC pc, Vec b, Vec x) {
     PetscFunctionReturn(0);
   }
   try {
+    const double t = MPI_Wtime();
     Level& fine = *s->levels_.back();
     fine.b = b;
     fine.x = x;
     s->cycle(static_cast<int>(s->levels_.size()) - 1, true);
     fine.b = fine.x = nullptr;
     s->applications_ += 1;
+    s->apply_seconds_ += MPI_Wtime() - t;
   } catch (const std::exception& e) {
     SETERRQ(PETSC_COMM_SELF, PETSC_ERR_LIB, "%s", e.what());
   }
@@ -485,28 +549,8 @@ void SingleCycle::build() {
                        "(-mg_levels_ksp_type chebyshev -mg_levels_pc_type jacobi "
                        "-mg_levels_ksp_max_it 1); level " + std::to_string(l) + " has another");
     LEM_PETSC(MatCreateVecs(Pmat, nullptr, level->r.replace()));
-    {
-      // Jacobi's inverse diagonal, and the step of the sweep probed: from a
-      // zero guess one Chebyshev sweep gives x = step D^-1 b.
-      VecHandle ones, d, probe;
-      LEM_PETSC(VecDuplicate(level->r, ones.replace()));
-      LEM_PETSC(VecDuplicate(level->r, d.replace()));
-      LEM_PETSC(VecDuplicate(level->r, probe.replace()));
-      LEM_PETSC(VecSet(ones, 1.0));
-      LEM_PETSC(PCApply(jpc, ones, d));
-      LEM_PETSC(VecSet(probe, 0.0));
-      LEM_PETSC(KSPSolve(smoother, ones, probe));
-      PetscScalar xd = 0, dd = 0;
-      LEM_PETSC(VecDot(probe, d, &xd));
-      LEM_PETSC(VecDot(d, d, &dd));
-      level->step = dd > 0 ? xd / dd : 0.0;
-      PetscInt m = 0;
-      LEM_PETSC(VecGetLocalSize(d, &m));
-      const PetscScalar* da = nullptr;
-      LEM_PETSC(VecGetArrayRead(d, &da));
-      level->dinv.assign(da, da + m);
-      LEM_PETSC(VecRestoreArrayRead(d, &da));
-    }
+    level->smoother = smoother;
+    probe_smoother(*level);
     PetscInt bs = 1;
     LEM_PETSC(MatGetBlockSize(Pmat, &bs));
     if (!finest) level->A.build(Pmat, static_cast<int>(bs), static_cast<int>(bs));
@@ -528,6 +572,36 @@ void SingleCycle::build() {
     level->vector_bytes = 12.0 * 8.0 * static_cast<double>(local);
     levels_.push_back(std::move(level));
   }
+}
+
+// Jacobi's inverse diagonal and the step of one Chebyshev sweep, probed: from
+// a zero guess the sweep gives x = step D^-1 b.  The sweep sets the smoother
+// up first, as the double cycle does whenever its operator changed (a new
+// diagonal, a new eigenvalue estimate).
+void SingleCycle::probe_smoother(Level& level) {
+  VecHandle ones, d, probe;
+  LEM_PETSC(VecDuplicate(level.r, ones.replace()));
+  LEM_PETSC(VecDuplicate(level.r, d.replace()));
+  LEM_PETSC(VecDuplicate(level.r, probe.replace()));
+  LEM_PETSC(VecSet(ones, 1.0));
+  LEM_PETSC(VecSet(probe, 0.0));
+  LEM_PETSC(KSPSolve(level.smoother, ones, probe));
+  PC jacobi = nullptr;
+  LEM_PETSC(KSPGetPC(level.smoother, &jacobi));
+  LEM_PETSC(PCApply(jacobi, ones, d));
+  PetscScalar xd = 0, dd = 0;
+  LEM_PETSC(VecDot(probe, d, &xd));
+  LEM_PETSC(VecDot(d, d, &dd));
+  level.step = dd > 0 ? xd / dd : 0.0;
+  PetscInt m = 0;
+  LEM_PETSC(VecGetLocalSize(d, &m));
+  const PetscScalar* da = nullptr;
+  LEM_PETSC(VecGetArrayRead(d, &da));
+  level.dinv.assign(da, da + m);
+  LEM_PETSC(VecRestoreArrayRead(d, &da));
+  Mat Pmat = nullptr;
+  LEM_PETSC(KSPGetOperators(level.smoother, nullptr, &Pmat));
+  LEM_PETSC(PetscObjectStateGet(reinterpret_cast<PetscObject>(Pmat), &level.operator_state));
 }
 
 void SingleCycle::residual(int l, Vec b, Vec x, Vec r) {
@@ -599,7 +673,7 @@ std::vector<SingleCycle::LevelStats> SingleCycle::level_stats() const {
 }
 
 void SingleCycle::reset_stats() {
-  applications_ = 0;
+  applications_ = apply_seconds_ = 0;
   for (auto& l : levels_) l->visits = l->products = l->transfers = l->seconds = l->bytes = 0;
 }
 

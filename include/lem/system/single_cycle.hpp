@@ -5,7 +5,10 @@
 // preconditioner changes.  At every build of the preconditioner GAMG builds
 // its hierarchy from K as always; this object then copies what one cycle
 // reads into float: the fine level as the bond arrays (two 32-bit node
-// indices and sqrt(k) n per bond, 20 bytes instead of 40), every coarser
+// indices and sqrt(k) n per bond, 20 bytes read per bond instead of 40;
+// sqrt(k) n is refreshed from the current stiffnesses before every solve,
+// as the double cycle's fine level follows every rupture, and so are its
+// Jacobi diagonal and Chebyshev step whenever K changed), every coarser
 // operator, interpolation and restriction as a block-sparse matrix of float
 // blocks (the 6 x 6 blocks of the rigid-body aggregates, one 32-bit index per
 // block: about 4 bytes per nonzero instead of 12), and each Chebyshev/Jacobi
@@ -65,6 +68,8 @@ class SingleCycle {
   };
   std::vector<LevelStats> level_stats() const;
   double applications() const { return applications_; }
+  /// Seconds spent in the float cycle on this rank (since the last reset).
+  double apply_seconds() const { return apply_seconds_; }
   void reset_stats();
   /// Bytes of this rank's float copies.
   double memory_bytes() const;
@@ -74,9 +79,12 @@ class SingleCycle {
   struct FloatBonds;
   static PetscErrorCode shell_setup(PC pc);
   static PetscErrorCode shell_apply(PC pc, Vec b, Vec x);
+  static PetscErrorCode shell_presolve(PC pc, KSP ksp, Vec b, Vec x);
+  static void check_smoother_options();
   void build();
   void cycle(int level, bool zero_guess);
   void residual(int level, Vec b, Vec x, Vec r);  // r = b - A x
+  void probe_smoother(Level& level);
 
   const DistributedLattice& lattice_;
   double ground_, scale_;
@@ -85,7 +93,7 @@ class SingleCycle {
   int cycles_ = 2;      // 1 V, 2 W
   std::vector<std::unique_ptr<Level>> levels_;  // coarsest first, as PCMG numbers them
   std::unique_ptr<FloatBonds> fine_;
-  double applications_ = 0;
+  double applications_ = 0, apply_seconds_ = 0;
 };
 
 }  // namespace lem
