@@ -387,7 +387,6 @@ SingleCycle::SingleCycle(const DistributedLattice& lattice, double ground, doubl
   LEM_PETSC(PCShellSetContext(shell, this));
   LEM_PETSC(PCShellSetSetUp(shell, shell_setup));
   LEM_PETSC(PCShellSetApply(shell, shell_apply));
-  LEM_PETSC(PCShellSetPreSolve(shell, shell_presolve));
   LEM_PETSC(KSPSetPC(ksp, shell));  // the KSP takes its own reference
   LEM_PETSC(PCDestroy(&shell));
   LEM_PETSC(KSPSetOperators(ksp, A, P));
@@ -453,25 +452,6 @@ PetscErrorCode SingleCycle::shell_setup(PC pc) {
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode SingleCycle::shell_presolve(PC pc, KSP, Vec, Vec) {
-  PetscFunctionBeginUser;
-  SingleCycle* s = nullptr;
-  PetscCall(PCShellGetContext(pc, &s));
-  if (!s->single_ || s->levels_.empty()) PetscFunctionReturn(0);
-  try {
-    s->fine_->refresh();
-    Level& fine = *s->levels_.back();
-    Mat Pmat = nullptr;
-    PetscObjectState state = 0;
-    PetscCall(KSPGetOperators(fine.smoother, nullptr, &Pmat));
-    PetscCall(PetscObjectStateGet(reinterpret_cast<PetscObject>(Pmat), &state));
-    if (state != fine.operator_state) s->probe_smoother(fine);
-  } catch (const std::exception& e) {
-    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_LIB, "%s", e.what());
-  }
-  PetscFunctionReturn(0);
-}
-
 PetscErrorCode SingleCycle::shell_apply(PC pc, Vec b, Vec x) {
   PetscFunctionBeginUser;
   SingleCycle* s = nullptr;
@@ -483,6 +463,18 @@ PetscErrorCode SingleCycle::shell_apply(PC pc, Vec b, Vec x) {
   try {
     const double t = MPI_Wtime();
     Level& fine = *s->levels_.back();
+    // K changes in place with every rupture and pinned node, and the double
+    // cycle's fine level follows it: read the fine level again and probe its
+    // smoother again (checked here, not in a pre-solve hook, which a shell
+    // around this one, as the deflation's, would not pass on).
+    Mat K = nullptr;
+    PetscObjectState state = 0;
+    PetscCall(KSPGetOperators(fine.smoother, nullptr, &K));
+    PetscCall(PetscObjectStateGet(reinterpret_cast<PetscObject>(K), &state));
+    if (state != fine.operator_state) {
+      s->fine_->refresh();
+      s->probe_smoother(fine);
+    }
     fine.b = b;
     fine.x = x;
     s->cycle(static_cast<int>(s->levels_.size()) - 1, true);

@@ -2,7 +2,9 @@
 // set-up stages, assembly, preconditioner set-up, CG solve, peak memory, the
 // fine-level MatMult and a STREAM triad measured in the same run, then the
 // bond operator (-solver_operator bonds) beside the assembled K: product and
-// CG iteration.  It prints figures, not a verdict (docs/benchmarks.md).
+// CG iteration, then the multigrid cycle level by level in double and single
+// precision (-solver_cycle_precision).  It prints figures, not a verdict
+// (docs/benchmarks.md).
 //
 // Solves measured:
 //   first  - ElasticSystem::solve(d) as lem_tension does it: KSPSetUp (PC built

@@ -6,9 +6,9 @@
 // its hierarchy from K as always; this object then copies what one cycle
 // reads into float: the fine level as the bond arrays (two 32-bit node
 // indices and sqrt(k) n per bond, 20 bytes read per bond instead of 40;
-// sqrt(k) n is refreshed from the current stiffnesses before every solve,
-// as the double cycle's fine level follows every rupture, and so are its
-// Jacobi diagonal and Chebyshev step whenever K changed), every coarser
+// sqrt(k) n, the Jacobi diagonal and the Chebyshev step are read again
+// whenever K changed, as the double cycle's fine level follows every
+// rupture even while the multigrid is kept), every coarser
 // operator, interpolation and restriction as a block-sparse matrix of float
 // blocks (the 6 x 6 blocks of the rigid-body aggregates, one 32-bit index per
 // block: about 4 bytes per nonzero instead of 12), and each Chebyshev/Jacobi
@@ -79,7 +79,6 @@ class SingleCycle {
   struct FloatBonds;
   static PetscErrorCode shell_setup(PC pc);
   static PetscErrorCode shell_apply(PC pc, Vec b, Vec x);
-  static PetscErrorCode shell_presolve(PC pc, KSP ksp, Vec b, Vec x);
   static void check_smoother_options();
   void build();
   void cycle(int level, bool zero_guess);
