@@ -456,7 +456,7 @@ PetscErrorCode SingleCycle::shell_apply(PC pc, Vec b, Vec x) {
   PetscFunctionBeginUser;
   SingleCycle* s = nullptr;
   PetscCall(PCShellGetContext(pc, &s));
-  if (!s->single_) {
+  if (!s->single_ || s->levels_.empty()) {
     PetscCall(PCApply(s->inner_, b, x));
     PetscFunctionReturn(0);
   }
@@ -498,8 +498,11 @@ void SingleCycle::build() {
                                     &set));
     cycles_ = set && (type[0] == 'v' || type[0] == 'V') ? 1 : 2;
   }
-  fine_->read();
   levels_.clear();
+  // A single level (fewer rows than -pc_gamg_coarse_eq_limit) is GAMG's
+  // direct solve alone: nothing to copy, the shell applies it.
+  if (n < 2) return;
+  fine_->read();
   for (int l = 0; l < n; ++l) {
     auto level = std::make_unique<Level>();
     KSP smoother = nullptr;
@@ -518,14 +521,11 @@ void SingleCycle::build() {
       level->x = level->own_x;
       level->b = level->own_b;
     }
-    if (l == 0 && n > 1) {
+    if (l == 0) {
       level->coarse = smoother;
       levels_.push_back(std::move(level));
       continue;
     }
-    if (n == 1) throw InputError("-solver_cycle_precision single: the multigrid has a single "
-                                 "level (a problem below -pc_gamg_coarse_eq_limit rows); use "
-                                 "the double cycle");
     // The smoother: Chebyshev with Jacobi, one sweep.
     PetscBool cheb = PETSC_FALSE, jacobi = PETSC_FALSE;
     PC jpc = nullptr;

@@ -129,6 +129,21 @@ TEST(SingleCycle, SolutionEqualsDoubleCycleAlsoAfterRupturesAndRebuild) {
   EXPECT_LT(out[0], 1e-8 * out[1]);
 }
 
+TEST(SingleCycle, SingleLevelIsTheDirectSolve) {
+  // Fewer rows than the coarse limit: GAMG's one level, applied as it is.
+  double modulus[2] = {};
+  for (int single = 0; single < 2; ++single) {
+    DistributedLattice lattice = random_problem(PETSC_COMM_WORLD, 200);
+    SolverOptions options;
+    options.single_cycle = single != 0;
+    ElasticSystem system(lattice, options);
+    system.assemble();
+    system.solve(1e-3 * lattice.mean_bond_length);
+    modulus[single] = system.response().young_modulus;
+  }
+  EXPECT_NEAR(modulus[1], modulus[0], 1e-12 * std::fabs(modulus[0]));
+}
+
 TEST(SingleCycle, OptionIsValidated) {
   PetscOptionsSetValue(nullptr, "-solver_cycle_precision", "half");
   EXPECT_THROW(read_solver_options(PETSC_COMM_WORLD), InputError);
