@@ -24,6 +24,9 @@ int main(int argc, char** argv) {
                               2'000'000'000);
       bench.repeat = g.integer("-bench_repeat", "Repeated assembly + PC set-up + solve",
                                bench.repeat, 0, 100);
+      bench.cycle_repeat = g.integer("-bench_cycle_repeat", "Alternating solves of each "
+                                     "multigrid cycle precision (double, single) on the same "
+                                     "preconditioner", bench.cycle_repeat, 1, 100);
       bench.morton = g.flag("-bench_morton", "Morton order inside each part (false: METIS order)",
                             bench.morton);
       bench.matmults = g.integer("-bench_matmult", "Fine-level MatMults timed", bench.matmults, 1,

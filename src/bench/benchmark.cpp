@@ -328,7 +328,7 @@ void run_tension_benchmark(MPI_Comm comm, SampleOptions sample, const BenchOptio
   const auto messages = over_ranks(perf.numMessages * per_iteration);
   const auto message_bytes = over_ranks(perf.messageLength * per_iteration);
   const auto reductions = over_ranks(perf.numReductions * per_iteration);
-  account_levels(comm, *sys, lattice, solver, b, delta, repeat);
+  account_levels(comm, *sys, lattice, solver, b, delta, bench.cycle_repeat);
   x.reset();
   b.reset();
 

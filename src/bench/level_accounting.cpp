@@ -230,7 +230,7 @@ void account_levels(MPI_Comm comm, ElasticSystem& sys, DistributedLattice& latti
   double young[2] = {0, 0};
   int system_its[2] = {0, 0};
   const std::vector<double> zero(3 * static_cast<std::size_t>(lattice.owned), 0.0);
-  for (std::int64_t r = 0; r < std::max<std::int64_t>(repeat, 1); ++r)
+  for (std::int64_t r = 0; r < repeat; ++r)
     for (int single = 0; single < 2; ++single) {
       cycle->use_single(single != 0);
       LEM_PETSC(VecZeroEntries(x));

@@ -11,7 +11,7 @@ namespace lem {
 /// With `b` the right-hand side of the benchmark: one logged CG solve per
 /// cycle precision, printed as a table per level (rows, nonzeros, visits,
 /// products and transfers, bytes by the model, ms measured, per CG
-/// iteration), then `repeat` alternating unlogged solves of each and the
+/// iteration), then `repeat` (≥ 1) alternating unlogged solves of each and the
 /// system's E_eff with each.  Needs -pc_mg_log set before the multigrid was
 /// built (for the double cycle's level events).  Collective.
 void account_levels(MPI_Comm comm, ElasticSystem& sys, DistributedLattice& lattice,
