@@ -191,7 +191,8 @@ void account_levels(MPI_Comm comm, ElasticSystem& sys, DistributedLattice& latti
           r.transfers = 2 * r.visits;
           Mat P;
           LEM_PETSC(PCMGGetInterpolation(mg, l, &P));
-          const double product = l == levels - 1 ? bond_bytes : aij_product_bytes(A);
+          const double product =
+              l == levels - 1 && bond_bytes > 0 ? bond_bytes : aij_product_bytes(A);
           PetscInt rows_here = 0;
           LEM_PETSC(MatGetSize(A, &rows_here, nullptr));
           r.megabytes = r.visits * (3 * product + 2 * aij_product_bytes(P) +
@@ -204,9 +205,9 @@ void account_levels(MPI_Comm comm, ElasticSystem& sys, DistributedLattice& latti
       }
     }
     Row product;
-    product.name = "CG: operator (bonds)";
+    product.name = bond_bytes > 0 ? "CG: operator (bonds)" : "CG: operator (K)";
     product.products = 1;
-    product.megabytes = bond_bytes / 1e6;
+    product.megabytes = (bond_bytes > 0 ? bond_bytes : aij_product_bytes(sys.matrix())) / 1e6;
     product.ms = matmult_ms;
     rows.push_back(product);
     Row vectors;
