@@ -28,6 +28,8 @@ set(LEM_LONG_TESTS
   fracture_gold_main_np2          # fracture_fidelity_mini (the main job as run, against the same gold), fracture_ranks_reference
   fracture_ranks_mini             # fracture_ranks, fracture_fidelity_mini
   fracture_ranks_mini_reference   # fracture_ranks_reference
+  fracture_ranks_sample_tiny      # fracture_certificate
+  fracture_ranks_sample_mini      # fracture_certificate, fracture_ranks_mini
   fracture_no_whole_gathers       # test_checkpoint_file_np2, fracture_restart_ranks
   fracture_parallel_setup         # test_parallel_setup_np2, _np3
   fracture_spec_mini_parallel     # fracture_spec_mini, test_parallel_setup_np2 (ids and a of both set-ups)

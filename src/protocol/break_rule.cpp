@@ -110,14 +110,28 @@ std::vector<Rupture> CriticalBonds::find(const std::vector<double>& tension) con
   return rule_.batch(std::move(all));
 }
 
+double CriticalBonds::force_error(const std::vector<double>& tension,
+                                  const std::vector<double>& earlier, double safety) const {
+  const DistributedLattice& l = lattice_;
+  double mine = 0, all = 0;
+  for (int b = 0; b < l.local_bonds(); ++b)
+    if (l.bond_reported[b] && l.bond_stiffness[b] > 0)
+      mine = std::max(mine, std::abs(tension[b] - earlier[b]));  // NaN: left to find()
+  MPI_Allreduce(&mine, &all, 1, MPI_DOUBLE, MPI_MAX, l.comm);
+  return safety * all;
+}
+
 FieldDecision CriticalBonds::decide(const std::vector<double>& tension,
                                     const std::vector<double>& earlier, double safety) const {
   const DistributedLattice& l = lattice_;
+  // One error for every force: the slow part of a solver's error is smooth
+  // and reaches bonds whose own force hardly changes (a contact that carries
+  // nothing), so a bond's own change says nothing about its error.
+  const double error = force_error(tension, earlier, safety);
   std::int64_t counts[2] = {0, 0}, totals[2];  // certainly critical, undecided
   for (int b = 0; b < l.local_bonds(); ++b) {
     if (!l.bond_reported[b] || l.bond_stiffness[b] <= 0) continue;
     const double t = tension[b];
-    const double error = safety * std::abs(t - earlier[b]);
     const double level = this->level(b);
     if (!std::isfinite(t) || std::abs(t - level) <= error || lem::in_doubt(t, level, band_)) {
       counts[1] += 1;  // a non-finite force is left to the full solve (find() names it)
@@ -135,10 +149,10 @@ std::int64_t CriticalBonds::next_step(const std::vector<double>& tension, std::i
                                       std::int64_t max_steps, const std::vector<double>* earlier,
                                       double safety) const {
   const DistributedLattice& l = lattice_;
+  const double error = earlier ? force_error(tension, *earlier, safety) : 0.0;
   double first = std::numeric_limits<double>::infinity();
   for (int b = 0; b < l.local_bonds(); ++b) {
-    const double t =
-        earlier ? tension[b] + safety * std::abs(tension[b] - (*earlier)[b]) : tension[b];
+    const double t = tension[b] + error;
     if (!l.bond_reported[b] || l.bond_stiffness[b] <= 0 || !(t > 0)) continue;
     // From the edge of the doubt band: a near-tie is then met at a step that
     // is evaluated (and re-solved), never skipped over on one rank count.

@@ -86,9 +86,9 @@ FractureOptions read_fracture_options(MPI_Comm comm) {
     o.decision_safety = g.real(
         "-fracture_decision_safety", "End a relaxation solve (CG) before -ksp_rtol as soon as "
         "it decides the next batch: one bond force is above its threshold and every one is "
-        "farther from it than this many times its change over the last "
-        "-fracture_decision_interval iterations.  0: every solve to -ksp_rtol (the "
-        "reference)", o.decision_safety, 0.0, 1e6);
+        "farther from it than this many times the error of the field (the largest change of "
+        "any force over the last -fracture_decision_interval iterations, times the tail of "
+        "their series).  0: every solve to -ksp_rtol (the reference)", o.decision_safety, 0.0, 1e6);
     o.decided_closing = g.flag(
         "-fracture_decided_closing", "With -fracture_decision_safety > 0: a load step may also "
         "end on an unfinished solve that decides that no bond breaks (every force farther "

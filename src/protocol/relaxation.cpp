@@ -5,6 +5,8 @@
 #include "lem/base/log.hpp"
 
 #include <algorithm>
+#include <cstdio>
+#include <cstdlib>
 #include <utility>
 #include <stdexcept>
 
@@ -74,24 +76,44 @@ bool Relaxation::decision_stands(FieldDecision decision, const std::vector<doubl
 
 SolveReport Relaxation::solve_for_decision(double top_displacement) {
   if (!decides_early()) return p_.solver.solve(top_displacement, true);
+  // Every `interval` iterations: the largest change of any force since the
+  // last check, E.  While E shrinks by a factor rho < 1 per interval, what
+  // is left of any force's error is at most the rest of the series,
+  // E rho / (1 - rho) (each later change is at most the largest); it is
+  // taken as `safety` times E max(1, rho / (1 - rho)).  The check field kept
+  // beside the field is stretched to that tail (u + g (u_check - u)), so the
+  // certificate scales with the field and is read back the same way
+  // (CriticalBonds::force_error).  A bond's own change is no measure of its
+  // error: the slow, smooth part of the error moves forces that hardly
+  // change over an interval (docs/notes/fracture-certificate.md).
   std::vector<double> earlier;
+  double earlier_change = 0;  // E of the interval before, 0: none yet
   EarlyStop early;
   early.interval = p_.options.decision_interval;
-  // The error left in a force is taken as `safety` times its change over
-  // the last interval (CG shrinks the error by a roughly steady factor per
-  // iteration; a residual-based tail rho/(1-rho) was tried and is too
-  // optimistic: the residual converges faster than the slow modes of the
-  // error, docs/model/fracture.md).  The iterate of the last check is kept beside
-  // the field: it is the certificate of what the field decides.
   std::vector<double> decided;
+  early.restart = [&] {
+    earlier.clear();
+    earlier_change = 0;
+  };
   early.decided = [&] {
     LogStageScope stage("Decisions");
     std::vector<double> now = p_.system.bond_tensions();
-    if (!earlier.empty() &&
-        decision_stands(p_.critical.decide(now, earlier, p_.options.decision_safety), now,
-                        earlier)) {
-      decided = std::move(now);
-      return true;
+    if (!earlier.empty()) {
+      const double change = p_.critical.force_error(now, earlier, 1.0);
+      const double rho = earlier_change > 0 ? change / earlier_change : 1.0;
+      earlier_change = change;
+      if (rho < 1) {
+        const double tail = std::max(1.0, rho / (1 - rho));
+        std::vector<double> stretched(now.size());
+        for (std::size_t b = 0; b < now.size(); ++b)
+          stretched[b] = now[b] + tail * (earlier[b] - now[b]);
+        if (decision_stands(p_.critical.decide(now, stretched, p_.options.decision_safety), now,
+                            stretched)) {
+          p_.system.stretch_check(tail);
+          decided = std::move(now);
+          return true;
+        }
+      }
     }
     earlier = std::move(now);
     p_.system.mark_check();
@@ -99,7 +121,10 @@ SolveReport Relaxation::solve_for_decision(double top_displacement) {
   };
   const SolveReport report = p_.solver.solve(top_displacement, true, &early);
   // The next batch reads the forces the stop was decided on.
-  if (report.stopped_early) decided_ = {std::move(decided), p_.tally.solves};
+  if (report.stopped_early) {
+    check_decision(decided);
+    decided_ = {std::move(decided), p_.tally.solves};
+  }
   return report;
 }
 
@@ -115,7 +140,9 @@ std::vector<Rupture> Relaxation::next_batch(double top_displacement) {
     // scaled with it.  What it does not decide, CG decides from there.
     const std::vector<double> earlier = p_.system.check_tensions();
     const FieldDecision d = p_.critical.decide(tensions, earlier, p_.options.decision_safety);
-    if (!decision_stands(d, tensions, earlier)) {
+    if (decision_stands(d, tensions, earlier)) {
+      check_decision(tensions);
+    } else {
       solve_for_decision(top_displacement);
       decided_ = {};  // its forces are read here
       tensions = p_.system.bond_tensions();
@@ -129,6 +156,30 @@ std::vector<Rupture> Relaxation::next_batch(double top_displacement) {
     tensions = p_.system.bond_tensions();
   }
   return p_.critical.find(tensions);
+}
+
+void Relaxation::check_decision(const std::vector<double>& tensions) {
+  static const bool wanted = std::getenv("LEM_CHECK_DECISIONS") != nullptr;
+  if (!wanted) return;
+  // The field solved on to 1e-12 from where it is, then put back as it was.
+  ElasticSystem& system = p_.system;
+  const std::vector<double> owned = system.solution(), check = system.check_solution();
+  const double top = system.top_displacement();
+  system.solve_to(1e-12, top);
+  const std::vector<Rupture> converged = p_.critical.find(system.bond_tensions());
+  system.set_state(owned, top, check);
+  const std::vector<Rupture> decided = p_.critical.find(tensions);
+  auto ids = [](const std::vector<Rupture>& batch) {
+    std::string s;
+    for (const Rupture& r : batch) s += " " + std::to_string(r.id);
+    return s.empty() ? std::string(" none") : s;
+  };
+  int rank = 0;
+  MPI_Comm_rank(p_.lattice.comm, &rank);
+  if (rank == 0) std::fprintf(stderr, "decision checked:%s\n", ids(decided).c_str());
+  if (ids(decided) != ids(converged))
+    throw std::logic_error("LEM_CHECK_DECISIONS: a decided field breaks" + ids(decided) +
+                           " where the converged field breaks" + ids(converged));
 }
 
 void Relaxation::restore_state(const std::string& bytes) {

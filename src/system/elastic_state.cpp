@@ -199,6 +199,12 @@ void ElasticSystem::mark_check() {
   update_ghost_values(u_check_);
 }
 
+void ElasticSystem::stretch_check(double factor) {
+  if (!u_check_) throw std::logic_error("ElasticSystem::stretch_check: no check field");
+  LEM_PETSC(VecAXPBY(u_check_, 1.0 - factor, factor, u_));  // factor u_check + (1 - factor) u
+  update_ghost_values(u_check_);
+}
+
 std::vector<double> ElasticSystem::solution() const { return owned_values(lattice_, u_); }
 
 std::vector<double> ElasticSystem::check_solution() const {

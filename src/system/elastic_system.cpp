@@ -357,6 +357,7 @@ struct ElasticSystem::ConvergenceTest {
     PetscFunctionBeginUser;
     auto* c = static_cast<ConvergenceTest*>(ctx);
     PetscCall(c->inner(ksp, it, rnorm, reason, c->inner_context));
+    if (c->early && it == 0 && c->early->restart) c->early->restart();  // cannot throw
     if (!c->early || *reason != KSP_CONVERGED_ITERATING || it == 0 ||
         it % c->early->interval != 0)
       PetscFunctionReturn(0);

@@ -35,6 +35,14 @@
 #                   rupture sequences of the calibration and of the sample
 #                   are the same; curves within 1e-6 of the peak up to it,
 #                   1e-5 after
+#   certificate     a 15 000-bond sample of the cells generator to load step
+#                   100: every batch a decided solve takes from an unfinished
+#                   field is the converged field's (LEM_CHECK_DECISIONS), and
+#                   1 and 2 ranks break the bonds of the reference
+#                   (-fracture_decision_safety 0) in the same order
+#   ranks_sample    a shipped sample (LEM_CASE_ARGS names it and the run's
+#                   end): 1, 2 and 3 ranks with the default decided solves
+#                   break the bonds of the 2-rank reference in the same order
 #   parallel_setup  the main job with the sample set up in parallel
 #                   (-sample_parallel) on 2 and 3 ranks breaks the bonds the
 #                   serial set-up breaks on 2, in the same order (calibration
@@ -59,6 +67,13 @@ run() {  # run RANKS DIR [extra args]: the driver, output in DIR/log
   local n="$1" dir="$2"; shift 2
   mkdir -p "$dir"
   "${mpi[@]}" -n "$n" "$prog" "${case_args[@]}" -output_dir "$dir" "$@" > "$dir/log" 2>&1
+}
+run_sample() {  # run_sample RANKS DIR [args]: the driver without the small lattice's options
+  local n="$1" dir="$2"; shift 2
+  mkdir -p "$dir"
+  # shellcheck disable=SC2086
+  "${mpi[@]}" -n "$n" "$prog" -output_fields false -output_dir "$dir" "$@" ${LEM_CASE_ARGS:-} \
+    > "$dir/log" 2>&1
 }
 sequence() { cut -d, -f1,2,4 "$1/broken.csv"; }   # step, cycle, bond id
 wait_for_checkpoint() {  # DIR: until a checkpoint with some ruptures behind it exists
@@ -293,6 +308,40 @@ ranks_mini)
       fail "1 and 2 ranks differ ($part)"
   done
   echo "ok: 1 and 2 ranks break the same $(summary "$work/np1" broken) bonds of the mini sample in the same order"
+  ;;
+certificate)
+  # The sample on which decided solves once broke a contact that carries
+  # nothing (docs/notes/fracture-certificate.md); no calibration (its units
+  # given), to load step 100, past the first parting of the old certificate.
+  sample="$(dirname "$prog")/lem_sample"
+  "$sample" -sample_particles 27 -lattice_bonds 15000 -pack_seed 2 -lattice_seed 2 \
+    -matrix_fraction 0.13 -lattice_generator cells -output_dir "$work" -output_stem cells \
+    > "$work/sample.log" 2>&1 || fail "lem_sample: $(tail -3 "$work/sample.log")"
+  cells=(-sample_file "$work/cells.h5" -fracture_calibrate false -fracture_sigma_unit 0.01926543589
+         -fracture_modulus_unit 7.494575515 -fracture_max_steps 100)
+  LEM_CHECK_DECISIONS=1 run_sample 1 "$work/np1" "${cells[@]}" ||
+    fail "1 rank: $(grep -m1 -o 'LEM_CHECK_DECISIONS.*' "$work/np1/log" || tail -3 "$work/np1/log")"
+  checked=$(grep -c '^decision checked' "$work/np1/log")
+  [ "$checked" -gt 0 ] || fail "no decision taken from an unfinished field was checked"
+  run_sample 1 "$work/reference" "${cells[@]}" -fracture_decision_safety 0 ||
+    fail "reference: $(tail -3 "$work/reference/log")"
+  run_sample 2 "$work/np2" "${cells[@]}" || fail "2 ranks: $(tail -3 "$work/np2/log")"
+  for n in np1 np2; do
+    $py "$(dirname "$0")/fracture_check.py" ruptures "$work/$n" "$work/reference" 1e-5 \
+      --pre-peak 1e-6 || fail "$n and the reference differ"
+  done
+  echo "ok: $checked decided batches are the converged ones; 1 and 2 ranks break the $(summary "$work/reference" broken) bonds of the reference in the same order"
+  ;;
+ranks_sample)
+  for n in 1 2 3; do
+    run_sample "$n" "$work/np$n" || fail "$n-rank run: $(tail -3 "$work/np$n/log")"
+  done
+  run_sample 2 "$work/reference" -fracture_decision_safety 0 || fail "reference: $(tail -3 "$work/reference/log")"
+  for n in np1 np2 np3; do
+    $py "$(dirname "$0")/fracture_check.py" ruptures "$work/$n" "$work/reference" 1e-5 \
+      --pre-peak 1e-6 || fail "$n and the reference differ"
+  done
+  echo "ok: 1, 2 and 3 ranks break the $(summary "$work/reference" broken) bonds of the reference in the same order"
   ;;
 parallel_setup)
   root="$(cd "$(dirname "$0")/../.." && pwd)"

@@ -15,6 +15,7 @@
 #include <petscksp.h>
 
 #include <algorithm>
+#include <limits>
 #include <cmath>
 #include <cstdio>
 
@@ -106,11 +107,13 @@ TEST_F(FractureParts, FccCriticalBondsAreTheInclinedOnes) {
   EXPECT_EQ(all.next_step(system.bond_tensions(), 1, 20), 21);  // capped at max + 1
 }
 
-// A batch is decided when some bond is critical beyond its error and none
-// lies within its error of its threshold: the inclined FCC bonds at 1.03
-// times their threshold, with errors (safety times the change since the
-// earlier iterate) below and above the 3 % margin.  At 0.97 times their
-// threshold, the field holds (nothing breaks) on the same terms.
+// A batch is decided when some bond is critical beyond the error and none
+// lies within the error of its level, the error being the same for every
+// force: safety times the largest change of any force since the earlier
+// iterate.  The inclined FCC bonds at 1.03 times their threshold (the
+// smallest margin, of bonds on the faces, whose threshold is below the bulk
+// threshold f, lies between 1 % and 2 % of f), with errors of 1 % and 2 %.  At 0.97 times their threshold,
+// the field holds (nothing breaks) on the same terms.
 TEST_F(FractureParts, DecidedBatchNeedsEveryBondOutsideItsError) {
   const double a = 1.0, eps_b = 1.05e-3;
   DistributedLattice l = fcc_with_break_strain(a, eps_b);
@@ -121,23 +124,21 @@ TEST_F(FractureParts, DecidedBatchNeedsEveryBondOutsideItsError) {
   const double height = l.box.length(2);
   system.solve(1.03 * 3 * eps_b * height);
   const std::vector<double> t = system.bond_tensions();
-  auto shifted = [&](double fraction) {  // earlier iterate: every force off by fraction f
-    std::vector<double> e = t;
-    for (int b = 0; b < l.local_bonds(); ++b) e[b] -= fraction * l.bond_strength[b];
+  double f = 0;  // the bulk threshold
+  for (int b = 0; b < l.local_bonds(); ++b) f = std::max(f, l.bond_strength[b]);
+  MPI_Allreduce(MPI_IN_PLACE, &f, 1, MPI_DOUBLE, MPI_MAX, l.comm);
+  auto shifted = [&](const std::vector<double>& field, double fraction) {  // every force off by fraction f
+    std::vector<double> e = field;
+    for (double& v : e) v -= fraction * f;
     return e;
   };
-  EXPECT_EQ(all.decide(t, shifted(0.01), 2.0), FieldDecision::breaks);     // error 2 % < 3 %
-  EXPECT_EQ(all.decide(t, shifted(0.02), 2.0), FieldDecision::undecided);  // error 4 % > 3 %
+  EXPECT_EQ(all.decide(t, shifted(t, 0.005), 2.0), FieldDecision::breaks);    // error 1 % of f
+  EXPECT_EQ(all.decide(t, shifted(t, 0.01), 2.0), FieldDecision::undecided);  // error 2 % of f
   EXPECT_EQ(one.decide(t, t, 1.0), FieldDecision::undecided);  // only the rule "all" breaks early
   system.solve(0.97 * 3 * eps_b * height);
   const std::vector<double> below = system.bond_tensions();
-  auto below_shifted = [&](double fraction) {
-    std::vector<double> e = below;
-    for (int b = 0; b < l.local_bonds(); ++b) e[b] -= fraction * l.bond_strength[b];
-    return e;
-  };
-  EXPECT_EQ(all.decide(below, below_shifted(0.01), 2.0), FieldDecision::holds);
-  EXPECT_EQ(all.decide(below, below_shifted(0.02), 2.0), FieldDecision::undecided);
+  EXPECT_EQ(all.decide(below, shifted(below, 0.005), 2.0), FieldDecision::holds);
+  EXPECT_EQ(all.decide(below, shifted(below, 0.01), 2.0), FieldDecision::undecided);
   EXPECT_EQ(one.decide(below, below, 1.0), FieldDecision::holds);
   // The stress of a tension vector is the response's.
   EXPECT_NEAR(system.stress_of(below), system.response().stress_zz,
@@ -147,12 +148,50 @@ TEST_F(FractureParts, DecidedBatchNeedsEveryBondOutsideItsError) {
   system.solve(1e-4 * height);
   const std::vector<double> at_1 = system.bond_tensions();
   std::vector<double> off = at_1;
-  for (double& v : off) v *= 0.9;  // change 10 % of each force: error 10 % (safety 1)
+  for (double& v : off) v *= 0.9;  // error 10 % of the largest force, on every force (safety 1)
   const std::int64_t exact_step = all.next_step(at_1, 1, 1000);
   const std::int64_t bounded = all.next_step(at_1, 1, 1000, &off, 1.0);
   EXPECT_EQ(exact_step, 32);
-  EXPECT_EQ(bounded, 29);  // 1.1 k a 1e-4 / 3 per step: floor(31.5 / 1.1) + 1
+  // The largest forces reach 1.1 k a 1e-4 / 3 per step: floor(31.5 / 1.1) + 1
+  // = 29; smaller forces with the same error, sooner.
+  EXPECT_LE(bounded, 29);
+  EXPECT_GE(bounded, 16);
 
+}
+
+// The error of a force is not its own change: a bond whose force hardly
+// moves over the interval may still carry the slow part of the solver's
+// error (a contact that carries nothing, decided as critical by its own
+// change on 2 ranks of the tiny sample: docs/notes/fracture-certificate.md).
+// One bond just above its threshold with no change of its own, the others
+// far from theirs but changing by 2 % of their thresholds: not decided.
+TEST_F(FractureParts, AForceThatDoesNotMoveIsNotDecidedByItsOwnChange) {
+  const double a = 1.0, eps_b = 1.05e-3;
+  DistributedLattice l = fcc_with_break_strain(a, eps_b);
+  ElasticSystem system(l, exact);
+  system.assemble();
+  const auto rule = make_all_critical_rule();
+  CriticalBonds all(l, *rule);
+  system.solve(1e-4 * l.box.length(2));  // every force far below its threshold
+  std::vector<double> t = system.bond_tensions(), earlier = t;
+  std::int64_t chosen = -1;  // the lowest id of a bond of positive threshold on any rank
+  for (int b = 0; b < l.local_bonds(); ++b)
+    if (l.bond_reported[b] && l.bond_strength[b] > 0)
+      chosen = chosen < 0 ? l.bond_id[b] : std::min<std::int64_t>(chosen, l.bond_id[b]);
+  if (chosen < 0) chosen = std::numeric_limits<std::int64_t>::max();
+  MPI_Allreduce(MPI_IN_PLACE, &chosen, 1, MPI_INT64_T, MPI_MIN, l.comm);
+  for (int b = 0; b < l.local_bonds(); ++b) {
+    if (l.bond_id[b] == chosen) {
+      t[b] = earlier[b] = 1.01 * l.bond_strength[b];  // critical by 1 %, no change
+    } else {
+      earlier[b] = t[b] - 0.02 * l.bond_strength[b];
+    }
+  }
+  EXPECT_EQ(all.decide(t, earlier, 1.0), FieldDecision::undecided);
+  // With every force changing by less than the margin, it is decided.
+  for (int b = 0; b < l.local_bonds(); ++b)
+    if (l.bond_id[b] != chosen) earlier[b] = t[b] - 0.001 * l.bond_strength[b];
+  EXPECT_EQ(all.decide(t, earlier, 1.0), FieldDecision::breaks);
 }
 
 // Near-ties: the inclined FCC bonds at 1.03 times their threshold are in

@@ -89,8 +89,15 @@ class CriticalBonds {
   /// Whether some bond is in doubt (in_doubt).  Collective.
   bool in_doubt(const std::vector<double>& tensions) const;
 
-  /// What an unfinished field decides, with the error of each force
-  /// estimated as `safety` times its change since the `earlier` iterate:
+  /// The error bound of every force of an unfinished field: `safety` times
+  /// the largest change of any force since the `earlier` field (the check
+  /// field of a decided solve, which holds the error's tail: Relaxation::
+  /// solve_for_decision).  The same for every bond.  Collective.
+  double force_error(const std::vector<double>& tensions, const std::vector<double>& earlier,
+                     double safety) const;
+
+  /// What an unfinished field decides, with the error of every force
+  /// bounded by force_error(tensions, earlier, safety):
   /// `breaks` when at least one bond is critical beyond its error and no
   /// bond is within its error of its level or in doubt (the critical set is
   /// then the converged field's; only under a rule whose batch follows from
@@ -102,9 +109,8 @@ class CriticalBonds {
   /// First load step after `step` at which a bond becomes critical, or
   /// enters its doubt band, if the field is scaled from `step` (at most
   /// max_steps + 1).  With `earlier` (a field that is no equilibrium), each
-  /// force is taken at the top of its error estimate (`safety` times its
-  /// change since `earlier`): the step is then never later than the
-  /// converged field's.  Collective.
+  /// force is taken at the top of its error bound (force_error): the step
+  /// is then never later than the converged field's.  Collective.
   std::int64_t next_step(const std::vector<double>& tensions, std::int64_t step,
                          std::int64_t max_steps, const std::vector<double>* earlier = nullptr,
                          double safety = 0) const;

@@ -108,6 +108,10 @@ class Relaxation {
   RelaxationParts p_;
 
  private:
+  /// With LEM_CHECK_DECISIONS set (tests): the field is solved on to 1e-12
+  /// and put back; throws std::logic_error when its critical set differs
+  /// from `tensions`' (the forces of the decided field).  Collective.
+  void check_decision(const std::vector<double>& tensions);
   /// Decided solves are on (a safety > 0 and the rule `all`).
   bool decides_early() const;
   /// Whether `decision` of a field with these tensions (and those of its

@@ -47,6 +47,9 @@ struct SolveReport {
 struct EarlyStop {
   int interval = 4;
   std::function<bool()> decided;
+  /// Called when CG starts from the initial guess (a failed attempt is
+  /// retried from it): iterates of an earlier attempt are no baseline.
+  std::function<void()> restart = {};
 };
 
 /// Macroscopic response to a top displacement (paper sect. 2.3).
@@ -137,6 +140,9 @@ class ElasticSystem {
   /// Inside an EarlyStop test: keep the current CG iterate as the check
   /// field (an error estimate of a force is then its change since).
   void mark_check();
+  /// Inside an EarlyStop test that ends the solve: move the check field to
+  /// u + factor (u_check - u), the far end of the error bound it stands for.
+  void stretch_check(double factor);
   /// Tensions of the check field (only when not at_equilibrium()).
   std::vector<double> check_tensions() const;
   /// sigma_zz of a field with these bond tensions (response().stress_zz of
