@@ -391,14 +391,16 @@ decided_closing)
   # Measured 2026-11-26: the same 3 921 ruptures, curves 4.8e-6 of the peak
   # apart, 66 steps ended on decided fields; with the certificate taken away
   # (closing on the field as solved, the next step without the carried
-  # check field) 2.6e-4 of the peak apart.
+  # check field) 2.6e-4 of the peak apart.  Since the error of a decided
+  # field is one for every force (2026-11-28), few steps end on one (1 of
+  # about 300 here): at least one must.
   root="$(cd "$(dirname "$0")/../.." && pwd)"
   # shellcheck disable=SC2206
   case_args=(-sample_file "$root/meshes/tiny.h5" -fracture_calibrate 0
              -fracture_max_strain_ratio 1.5 -output_fields false ${LEM_CASE_ARGS:-})
   run 2 "$work/closed" -fracture_decided_closing false || fail "closed: $(tail -3 "$work/closed/log")"
   run 2 "$work/decided" -fracture_decided_closing true || fail "decided: $(tail -3 "$work/decided/log")"
-  [ "$(summary "$work/decided" decided_steps)" -ge 10 ] ||
+  [ "$(summary "$work/decided" decided_steps)" -ge 1 ] ||
     fail "only $(summary "$work/decided" decided_steps) load steps ended on a decided field"
   [ "$(summary "$work/closed" decided_steps)" -eq 0 ] || fail "decided fields with the option off"
   diff <(sequence "$work/closed") <(sequence "$work/decided") > /dev/null ||
