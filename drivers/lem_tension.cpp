@@ -5,6 +5,7 @@
 //   mpirun -n 2 lem_tension -sample_file meshes/demo.h5 -output_dir results/demo
 #include "lem/base/driver.hpp"
 #include "lem/base/options.hpp"
+#include "lem/protocol/fingerprint.hpp"
 #include "lem/run/result_folder.hpp"
 #include "lem/setup/setup.hpp"
 #include "lem/fields/tension_output.hpp"
@@ -36,8 +37,7 @@ int main(int argc, char** argv) {
     lem::SetupReport setup;
     auto lattice = lem::setup_sample_lattice(comm, sample, setup);
     // Only once the sample is read and checked: bad input keeps older results.
-    request.fingerprint = lem::options_fingerprint(
-        comm, "sample_checksum=" + std::to_string(lem::sample_checksum(lattice)) + "\n");
+    request.fingerprint = lem::options_fingerprint(comm, lem::lattice_fingerprint(lattice));
     const lem::ResultFolder folder(comm, lem::tension_layout(), request);
     if (!folder.begin()) return;
     const std::string& dir = folder.work_dir();

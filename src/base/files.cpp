@@ -63,6 +63,17 @@ void create_output_dir(const std::string& dir) {
 
 }  // namespace
 
+std::string not_a_regular_file(const std::string& path) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0 || S_ISREG(st.st_mode)) return "";
+  if (S_ISFIFO(st.st_mode)) return "a pipe (FIFO)";
+  if (S_ISCHR(st.st_mode)) return "a character device";
+  if (S_ISBLK(st.st_mode)) return "a block device";
+  if (S_ISSOCK(st.st_mode)) return "a socket";
+  if (S_ISDIR(st.st_mode)) return "a directory";
+  return "not a regular file";
+}
+
 void write_text_file_atomically(const std::string& path, const std::string& text) {
   write_file_atomically(path, text.data(), text.size());
 }
@@ -239,6 +250,9 @@ bool has_manifest(const std::string& dir) {
 
 std::optional<Manifest> read_manifest(const std::string& dir) {
   const std::string path = dir + "/" + kManifestName;
+  if (const std::string what = not_a_regular_file(path); !what.empty())
+    throw InputError("the manifest '" + path + "' is " + what + ", not a file lem wrote; "
+                     "remove it, or choose another -output_dir");
   std::ifstream in(path);
   if (!in) {
     if (!fs::exists(path)) return std::nullopt;

@@ -1,12 +1,18 @@
 // -options_file followed through the files it names, before PETSc reads
 // them: a missing file, a file that includes itself and too deep a nesting
 // are named here rather than met by PETSc (which recurses without a bound).
+// Every options file is read twice (here, then by PETSc), so only regular
+// files of a bounded size are taken: a pipe would be emptied by the first
+// reading, and a device such as /dev/zero never ends.
 #include "lem/base/options.hpp"
+
+#include "lem/base/files.hpp"
 
 #include <algorithm>
 #include <cctype>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <sstream>
 #include <string>
@@ -20,6 +26,8 @@ namespace {
 // follows them without a bound, so a file that includes itself recurses
 // until the stack overflows.  Deeper than this is refused as a likely cycle.
 constexpr int kOptionsFileDepth = 8;
+// Options files are a few lines; a larger one is likely not an options file.
+constexpr long long kOptionsFileBytes = 1 << 20;
 
 // The words of an options file as PETSc reads them: '#' starts a comment,
 // "alias" lines define aliases.
@@ -27,7 +35,9 @@ std::vector<std::string> options_file_words(std::FILE* file) {
   std::vector<std::string> words;
   char buffer[4096];
   std::string line;
-  while (std::fgets(buffer, sizeof buffer, file)) {
+  long long bytes = 0;  // a bound also for files whose size stat does not know
+  while (bytes <= kOptionsFileBytes && std::fgets(buffer, sizeof buffer, file)) {
+    bytes += static_cast<long long>(std::strlen(buffer));
     line += buffer;
     if (line.back() != '\n' && !std::feof(file)) continue;
     line = line.substr(0, line.find('#'));
@@ -44,6 +54,23 @@ bool is_option_name(const std::string& word) {
   return word.size() > 1 && word[0] == '-' && std::isalpha(static_cast<unsigned char>(word[1]));
 }
 
+// Why `path` cannot be an options file ("" if it can): it must be a
+// regular file (stat only: opening a pipe may wait for a writer) of at most
+// kOptionsFileBytes.
+std::string unusable_options_file(const std::string& path) {
+  const std::string what = not_a_regular_file(path);
+  if (what == "a directory") return "a directory, not a file";
+  if (!what.empty())
+    return what + ", not a regular file: options files are read twice (checked, then by "
+           "PETSc), so write the options to a file, or give them on the command line";
+  std::error_code ec;
+  const auto bytes = std::filesystem::file_size(path, ec);
+  if (!ec && static_cast<long long>(bytes) > kOptionsFileBytes)
+    return std::to_string(bytes) + " bytes, more than an options file holds (at most " +
+           std::to_string(kOptionsFileBytes) + ")";
+  return "";
+}
+
 // The first problem with the options files named in `words` (given in
 // `where`), following the plain ones into the files they name; `chain` holds
 // the files being read, outermost first (canonical path, name as given).
@@ -56,12 +83,11 @@ std::string options_file_problem(const std::vector<std::string>& words, const st
     if (i + 1 >= words.size() || words[i + 1].empty() || is_option_name(words[i + 1]))
       return "option " + name + where + " is given without a value (a file of options)";
     const std::string path = words[++i];
+    const std::string refused = unusable_options_file(path);
+    if (!refused.empty()) return "option " + name + " = '" + path + "'" + where + ": " + refused;
+    std::FILE* file = std::fopen(path.c_str(), "r");
+    if (!file) return "option " + name + " = '" + path + "'" + where + ": the file cannot be read";
     std::error_code ec;
-    const bool directory = std::filesystem::is_directory(path, ec);
-    std::FILE* file = directory ? nullptr : std::fopen(path.c_str(), "r");
-    if (!file)
-      return "option " + name + " = '" + path + "'" + where + ": " +
-             (directory ? "a directory, not a file" : "the file cannot be read");
     if (name == "-options_file_yaml") {  // PETSc's YAML reader: not followed
       std::fclose(file);
       continue;
@@ -101,6 +127,20 @@ std::string unreadable_options_file(int argc, char** argv) {
     words.clear();
     for (std::string w; in >> w;) words.push_back(w);
     problem = options_file_problem(words, " in PETSC_OPTIONS", chain);
+  }
+  // The files PETSc reads by itself unless -skip_petscrc is given.
+  const bool skip = std::find(argv + 1, argv + argc, std::string("-skip_petscrc")) != argv + argc;
+  const char* home = std::getenv("HOME");
+  std::vector<std::string> defaults = {".petscrc", "petscrc"};
+  if (home) defaults.insert(defaults.begin(), std::string(home) + "/.petscrc");
+  for (const auto& path : defaults) {
+    if (!problem.empty() || skip) break;
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) continue;
+    const std::string refused = unusable_options_file(path);
+    if (!refused.empty())
+      problem = "PETSc's default options file '" + path + "' (read unless -skip_petscrc): " +
+                refused;
   }
   return problem;
 }

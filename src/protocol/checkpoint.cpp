@@ -5,6 +5,7 @@
 #include "lem/base/log.hpp"
 #include "lem/base/error.hpp"
 #include "lem/base/files.hpp"
+#include "lem/base/fingerprint.hpp"
 #include "lem/protocol/registry.hpp"
 #include "lem/io/write_watch.hpp"
 
@@ -124,6 +125,9 @@ void check_head_values(const Checkpoint& c, const Head& head, const std::string&
 // Rank 0: the head of the file (magic to head checksum) and its trailing
 // field checksum, checked against the file's size.
 std::vector<char> read_head(const std::string& path, const std::string& bad, Head& head) {
+  if (const std::string what = not_a_regular_file(path); !what.empty())
+    throw InputError(bad + what + ", not a checkpoint lem wrote); remove it or pass "
+                     "-checkpoint_resume false");
   std::FILE* f = std::fopen(path.c_str(), "rb");
   if (!f) throw InputError("cannot open the checkpoint '" + path + "'");
   const auto read_at = [&](std::uint64_t offset, void* to, std::size_t n) {
@@ -425,58 +429,6 @@ Checkpoint read_checkpoint_file(MPI_Comm comm, const std::string& path,
   return c;
 }
 
-std::string fracture_fingerprint(const DistributedLattice& l, const FractureOptions& o) {
-  // The intact sample (ids, stiffnesses, thresholds after disorder) and
-  // every option that changes the results.
-  const std::uint64_t total = sample_checksum(l);
-  int ranks = 1;
-  MPI_Comm_size(l.comm, &ranks);
-  std::ostringstream s;
-  s.precision(17);
-  s << "ranks=" << ranks << "\nnodes=" << l.global_nodes << "\nbonds=" << l.global_bonds
-    << "\nsample_checksum=" << total << "\nincrement=" << o.increment
-    << "\nbreak_rule=" << o.break_rule << "\nskip_idle=" << o.skip_idle
-    << "\npc_rebuild_ruptures=" << o.rebuild_after_ruptures
-    << "\npc_rebuild_growth=" << o.rebuild_iteration_growth
-    << "\nrelaxation=" << o.relaxation;
-  const RelaxationEntry& scheme = relaxation_named(o.relaxation);
-  if (scheme.fingerprint) s << "\n" << scheme.fingerprint();
-  if (o.decision_safety > 0)
-    s << "\ndecision_safety=" << o.decision_safety
-      << "\ndecision_interval=" << o.decision_interval
-      << "\ndecided_closing=" << o.decided_closing;
-  // Only when changed, so that keys made before the rule existed still match.
-  const FractureOptions defaults;
-  if (o.tie_band != defaults.tie_band || o.tie_rtol != defaults.tie_rtol)
-    s << "\ntie_band=" << o.tie_band << "\ntie_rtol=" << o.tie_rtol;
-  s << "\n";
-  // Solver options are left out on purpose: a run stopped by a failed solve
-  // may be resumed with others (then equal to the tolerance, not bitwise).
-  return s.str();
-}
-
-std::string fingerprint_differences(const std::string& theirs, const std::string& ours,
-                                    int& other_ranks, const char* label) {
-  auto lines = [](const std::string& text) {
-    std::vector<std::string> out;
-    std::istringstream in(text);
-    for (std::string line; std::getline(in, line);) out.push_back(line);
-    return out;
-  };
-  const auto a = lines(theirs), b = lines(ours);
-  other_ranks = 0;
-  if (a.size() != b.size()) return "\n  (a different option set)";
-  std::string differs;
-  for (std::size_t i = 0; i < b.size(); ++i) {
-    if (a[i] == b[i]) continue;
-    if (a[i].rfind("ranks=", 0) == 0 && b[i].rfind("ranks=", 0) == 0)
-      other_ranks = std::stoi(a[i].substr(6));
-    else
-      differs += "\n  " + std::string(label) + ": " + a[i] + "   this run: " + b[i];
-  }
-  return differs;
-}
-
 CheckpointStore::CheckpointStore(const DistributedLattice& lattice, std::string path,
                                  std::string fingerprint)
     : lattice_(lattice), path_(std::move(path)), fingerprint_(std::move(fingerprint)) {}
@@ -494,15 +446,23 @@ Checkpoint CheckpointStore::load() const {
   int other_ranks = 0;  // rank count of a checkpoint written by another one
   // Everything in the checkpoint is by lattice id, so another partition can
   // take it over: the rank count may differ.
+  std::string solver_changes;
   Checkpoint c = read_checkpoint_file(l.comm, path_, owned_ids(), [&](const Checkpoint& theirs) {
-    const std::string differs =
-        fingerprint_differences(theirs.fingerprint, fingerprint_, other_ranks);
-    if (!differs.empty())
+    const FingerprintDifference d =
+        compare_fingerprints(theirs.fingerprint, fingerprint_, "checkpoint", true);
+    if (!d.differs.empty())
       throw InputError("the checkpoint '" + path_ + "' belongs to a different run "
-                       "(sample or options):" + differs + "\nresume with the same command, or "
+                       "(sample or options):" + d.differs + "\nresume with the same command, or "
                        "pass -checkpoint_resume false to start over");
+    other_ranks = d.other_ranks;
+    solver_changes = d.solver_changes;
   });
   MPI_Bcast(&other_ranks, 1, MPI_INT, 0, l.comm);
+  solver_changes = broadcast_string(l.comm, solver_changes);
+  if (!solver_changes.empty())
+    say("resuming a checkpoint written with other solver options:%s\nthe rest of the run is "
+        "solved with this run's, so it agrees with an uninterrupted one to the solver "
+        "tolerance, not bit for bit\n", solver_changes.c_str());
   if (other_ranks > 0) {
     int ranks = 1;
     MPI_Comm_size(l.comm, &ranks);

@@ -51,7 +51,8 @@ class Protocol {
             l, s, o, critical_, ledger_, solver_, recorder_, progress_, clock_, state_.tally,
             [this](std::int64_t step, int cycles) { stop_between_cycles(step, cycles); },
             [this](double stress) { return needs_equilibrium(stress); }})),
-        checkpoint_(l, checkpoint_path(out.dir), fracture_fingerprint(l, o)),
+        checkpoint_(l, checkpoint_path(out.dir),
+                    fracture_fingerprint(l, o, FingerprintScope::checkpoint)),
         warnings_(o, out.dir) {}
 
   FractureResult run();

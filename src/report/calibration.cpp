@@ -4,7 +4,8 @@
 #include "lem/base/error.hpp"
 #include "lem/base/files.hpp"
 #include "lem/base/log.hpp"
-#include "lem/protocol/checkpoint.hpp"
+#include "lem/base/collective.hpp"
+#include "lem/base/fingerprint.hpp"
 
 #include <cstdio>
 #include <fstream>
@@ -14,17 +15,8 @@ namespace lem {
 
 namespace {
 
-// The fingerprint without the "ranks=" line: a calibration holds on any
-// rank count (to the solver tolerance).
-std::string without_ranks(const std::string& fingerprint) {
-  std::istringstream in(fingerprint);
-  std::string kept;
-  for (std::string line; std::getline(in, line);)
-    if (line.rfind("ranks=", 0) != 0) kept += line + "\n";
-  return kept;
-}
-
 constexpr const char* kFingerprintLine = "# fingerprint:";
+constexpr const char* kWarningLine = "warning=";
 // The last line: the CRC-32 of every line before it.
 constexpr const char* kChecksumLine = "checksum=";
 
@@ -37,7 +29,7 @@ std::string text_checksum(const std::string& text) {
 }  // namespace
 
 std::string calibration_key(const std::string& fingerprint) {
-  const std::string text = without_ranks(fingerprint);
+  const std::string text = key_text(fingerprint);
   char hex[17];
   std::snprintf(hex, sizeof(hex), "%016llx",
                 static_cast<unsigned long long>(fnv1a(text.data(), text.size())));
@@ -49,6 +41,9 @@ std::optional<Calibration> read_calibration(MPI_Comm comm, const std::string& pa
   int found = 0;
   Calibration c;
   run_on_root(comm, [&] {
+    if (const std::string what = not_a_regular_file(path); !what.empty())
+      throw InputError("the calibration file '" + path + "' is " + what + ", not a file "
+                       "lem wrote; remove it, or pass another -fracture_calibration_file");
     std::ifstream in(path);
     if (!in) return;
     std::string stored, line, written_by, content, checksum;
@@ -67,6 +62,8 @@ std::optional<Calibration> read_calibration(MPI_Comm comm, const std::string& pa
         have_sigma = std::sscanf(line.c_str() + 10, "%lf", &c.sigma_hom) == 1;
       } else if (line.rfind("E_hom=", 0) == 0) {
         have_e = std::sscanf(line.c_str() + 6, "%lf", &c.e_hom) == 1;
+      } else if (line.rfind(kWarningLine, 0) == 0) {
+        c.warnings.push_back(line.substr(std::string(kWarningLine).size()));
       }
     }
     if (!have_sigma || !have_e || !(c.sigma_hom > 0) || !(c.e_hom > 0))
@@ -86,9 +83,8 @@ std::optional<Calibration> read_calibration(MPI_Comm comm, const std::string& pa
                        "; remove it to calibrate again (the next run computes and stores "
                        "sigma^[p] and E^[p] anew)");
     }
-    int other_ranks = 0;
     const std::string differs =
-        fingerprint_differences(stored, without_ranks(fingerprint), other_ranks, "file");
+        compare_fingerprints(stored, without_ranks(fingerprint), "file").differs;
     if (!differs.empty())
       throw InputError("the calibration file '" + path + "' was made for another lattice or "
                        "other options:" + differs + "\npass the calibration file of this sample, "
@@ -99,7 +95,14 @@ std::optional<Calibration> read_calibration(MPI_Comm comm, const std::string& pa
   });
   MPI_Bcast(&found, 1, MPI_INT, 0, comm);
   if (!found) return std::nullopt;
-  MPI_Bcast(&c, sizeof(c), MPI_BYTE, 0, comm);
+  double values[2] = {c.sigma_hom, c.e_hom};
+  MPI_Bcast(values, 2, MPI_DOUBLE, 0, comm);
+  c.sigma_hom = values[0], c.e_hom = values[1];
+  std::string words;
+  for (const auto& w : c.warnings) words += w + "\n";
+  std::istringstream lines(broadcast_string(comm, words));
+  c.warnings.clear();
+  for (std::string w; std::getline(lines, w);) c.warnings.push_back(w);
   return c;
 }
 
@@ -114,6 +117,7 @@ void write_calibration(MPI_Comm comm, const std::string& path, const std::string
         << (provenance.ranks == 1 ? " rank, " : " ranks, ")
         << iso8601_utc_now() << "\n"
         << "sigma_hom=" << c.sigma_hom << "\nE_hom=" << c.e_hom << "\n";
+    for (const auto& w : c.warnings) out << kWarningLine << w << "\n";
     std::istringstream in(without_ranks(fingerprint));
     for (std::string line; std::getline(in, line);) out << kFingerprintLine << " " << line << "\n";
     const std::string checksum = text_checksum(out.str());

@@ -103,19 +103,31 @@ bool resumable(MPI_Comm comm, const FractureOptions& options, const std::string&
   return found;
 }
 
-// What the result of this run depends on, recorded in its manifest: the
-// checkpoint's fingerprint (sample, thresholds, protocol options), where the
-// run ends, and how it is normalised and written.
-std::string result_fingerprint(const DistributedLattice& lattice, const FractureOptions& o,
-                               const FractureRunOptions& run, bool calibrating) {
-  std::ostringstream s;
-  s.precision(17);
-  s << fracture_fingerprint(lattice, o) << "stop_fraction=" << o.stop_fraction
-    << "\nmax_strain_ratio=" << o.max_strain_ratio << "\nmax_steps=" << o.max_steps
-    << "\ncalibrate=" << calibrating << "\nsigma_unit=" << run.sigma_unit
-    << "\nmodulus_unit=" << run.modulus_unit << "\nfields=" << run.fields
-    << "\nsnapshot_steps=" << run.snapshot_steps << "\n";
-  return s.str();
+// What the result of this run depends on, recorded in its manifest
+// (protocol/fingerprint.hpp): the sample by content, the protocol, and every
+// option that changes what is computed or written.
+std::string result_fingerprint(const DistributedLattice& lattice, const FractureOptions& o) {
+  return fracture_fingerprint(lattice, o, FingerprintScope::result);
+}
+
+// The warnings a stored calibration carries, as if its run had just raised
+// them: in the summary and the manifest, and an error under -fracture_strict.
+void keep_stored_warnings(const Calibration& stored, const std::string& path, bool strict,
+                          std::vector<RunWarning>& warnings) {
+  if (stored.warnings.empty()) return;
+  std::string words;
+  for (const auto& w : stored.warnings) words += (words.empty() ? "" : ", ") + w;
+  if (strict)
+    throw NumericalError("the calibration in '" + path + "' was made by a run with warnings (" +
+                         words + "), an error under -fracture_strict; remove it to calibrate "
+                         "again under -fracture_strict");
+  say_warning("warning [calibration] %s carries the warnings of the run that made it: %s\n",
+              path.c_str(), words.c_str());
+  for (const auto& w : stored.warnings) {
+    const std::size_t colon = w.rfind(':');
+    warnings.push_back({w.substr(0, colon),
+                        colon == std::string::npos ? 1 : std::atoll(w.c_str() + colon + 1)});
+  }
 }
 
 // sigma^[p] and E^[p]: from the calibration file of this lattice if there is
@@ -142,7 +154,8 @@ Calibration calibrate(MPI_Comm comm, const SampleOptions& sample,
   // calibration of 10^7 bonds takes hours.
   hom_options.max_steps = FractureOptions{}.max_steps;
   Prepared p = prepare(comm, hom, break_strain, hom_options);
-  const std::string fingerprint = fracture_fingerprint(p.lattice, hom_options);
+  const std::string fingerprint =
+      fracture_fingerprint(p.lattice, hom_options, FingerprintScope::calibration);
   const bool chosen = !path.empty();
   if (!chosen)
     path = std::filesystem::path(sample.sample_file).replace_extension().string() +
@@ -150,6 +163,7 @@ Calibration calibrate(MPI_Comm comm, const SampleOptions& sample,
   if (const auto stored = read_calibration(comm, path, fingerprint)) {
     say("calibration: sigma^[p] = %.6g, E^[p] = %.6g (E^phase units) from %s\n",
              stored->sigma_hom, stored->e_hom, path.c_str());
+    keep_stored_warnings(*stored, path, options.strict, warnings);
     return *stored;
   }
   // A calibration stopped by a signal resumes from its checkpoint, whose
@@ -188,6 +202,7 @@ Calibration calibrate(MPI_Comm comm, const SampleOptions& sample,
   Calibration c;
   c.sigma_hom = hom_case.result.peak_stress * hom_case.stress_unit;
   c.e_hom = hom_case.result.young_modulus * hom_case.stress_unit;
+  c.warnings = warning_words(warnings);
   say("calibration: sigma^[p] = %.6g, E^[p] = %.6g (E^phase units)\n", c.sigma_hom,
            c.e_hom);
   std::string stored = "stored in " + path;
@@ -372,7 +387,7 @@ void run_fracture_job(MPI_Comm comm, const SampleOptions& sample,
                       "written; run the same command again");
   ResultFolder::Request request;
   request.dir = run.output_dir;
-  request.fingerprint = result_fingerprint(prepared.lattice, options, run, calibrating);
+  request.fingerprint = result_fingerprint(prepared.lattice, options);
   request.overwrite = run.overwrite;
   request.resume = options.resume;
   request.strict = options.strict;

@@ -3,6 +3,7 @@
 #include "lem/base/collective.hpp"
 #include "lem/base/error.hpp"
 #include "lem/base/files.hpp"
+#include "lem/base/fingerprint.hpp"
 #include "lem/base/log.hpp"
 #include "lem/base/options.hpp"
 #include "lem/protocol/checkpoint.hpp"
@@ -116,13 +117,7 @@ const ResultLayout& packing_layout() {
 
 std::string options_fingerprint(MPI_Comm comm, const std::string& inputs) {
   std::string text;
-  run_on_root(comm, [&] {
-    for (const OptionRecord& r : registered_options()) {
-      if (r.petsc_default || r.name.rfind("-output_", 0) == 0) continue;
-      text += r.name.substr(1) + "=" + (r.given ? r.value : r.default_value) + "\n";
-    }
-    text += inputs;
-  });
+  run_on_root(comm, [&] { text = option_lines(kAllOptionKinds) + inputs; });
   return text;
 }
 
@@ -143,8 +138,7 @@ namespace {
 std::string other_run(const Manifest& m, const ResultLayout& layout,
                       const std::string& fingerprint) {
   if (m.program != layout.program) return "\n  written by " + m.program;
-  int other_ranks = 0;
-  return fingerprint_differences(m.fingerprint, fingerprint, other_ranks, "finished");
+  return compare_fingerprints(m.fingerprint, fingerprint, "finished").differs;
 }
 
 // Rank 0: a finished result with warnings is an error under -fracture_strict

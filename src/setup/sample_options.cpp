@@ -6,6 +6,7 @@
 #include <cmath>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace lem {
 namespace {
@@ -32,7 +33,18 @@ bool read_random_lattice_options(OptionGroup& g, RandomLatticeSpec& spec) {
                                "fraction of the mean spacing", 0.5, 0.0, 0.8);
   spec.seed = static_cast<std::uint64_t>(
       g.integer("-lattice_seed", "Random seed of the node positions", 1, 0, PETSC_MAX_INT));
-  return spec.nodes != 0 || spec.bonds != 0 || spec.mesh_density != 0;
+  // One size: the generator would take the first and drop the others silently.
+  std::vector<std::string> sizes;
+  if (spec.nodes != 0) sizes.push_back("-lattice_nodes " + std::to_string(spec.nodes));
+  if (spec.bonds != 0) sizes.push_back("-lattice_bonds " + std::to_string(spec.bonds));
+  if (spec.mesh_density != 0) sizes.push_back("-lattice_Ln " + std::to_string(spec.mesh_density));
+  if (sizes.size() > 1) {
+    std::string given;
+    for (const auto& s : sizes) given += (given.empty() ? "" : ", ") + s;
+    throw InputError("options " + given + " each set the size of the random lattice: give "
+                     "one of -lattice_nodes, -lattice_bonds, -lattice_Ln");
+  }
+  return !sizes.empty();
 }
 
 LatticeGenerator read_lattice_generator(OptionGroup& g) {

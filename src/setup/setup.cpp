@@ -1,6 +1,7 @@
 #include "lem/setup/setup.hpp"
 
 #include "lem/base/error.hpp"
+#include "lem/base/files.hpp"
 #include "lem/base/log.hpp"
 #include "lem/base/options.hpp"
 #include "lem/setup/parallel_setup.hpp"
@@ -130,6 +131,10 @@ SampleOptions read_sample_options(MPI_Comm comm) {
                         false);
     if (o.parallel && o.sample_file.empty())
       throw InputError("option -sample_parallel sets up a sample file: it needs -sample_file");
+    // HDF5 would wait on a pipe for a writer, deaf to stop signals.
+    if (const std::string what = not_a_regular_file(o.sample_file); !what.empty())
+      throw InputError("option -sample_file = '" + o.sample_file + "': " + what + ", not a "
+                       "sample file (HDF5 files are read by position: give a regular file)");
     if (!o.sample_file.empty())
       for (const char* name : kGenerationOptions)
         if (g.given(name))

@@ -4,6 +4,7 @@
 // byte serialiser under it is tested in test_base).
 #include "lem/base/error.hpp"
 #include "lem/protocol/break_rule.hpp"
+#include "lem/base/fingerprint.hpp"
 #include "lem/protocol/checkpoint.hpp"
 #include "lem/protocol/disorder.hpp"
 #include "lem/protocol/preconditioner_policy.hpp"
@@ -161,16 +162,54 @@ TEST(TimeLeft, LinearDeclineIsExtrapolatedExactly) {
 
 TEST(Checkpoint, FingerprintDifferencesNameTheLinesAndAllowOtherRankCounts) {
   const std::string ours = "ranks=2\nnodes=10\nincrement=0.0003\n";
-  int other = -1;
-  EXPECT_EQ(fingerprint_differences(ours, ours, other), "");
-  EXPECT_EQ(other, 0);
-  EXPECT_EQ(fingerprint_differences("ranks=1\nnodes=10\nincrement=0.0003\n", ours, other), "");
-  EXPECT_EQ(other, 1);
+  EXPECT_EQ(compare_fingerprints(ours, ours, "checkpoint").differs, "");
+  EXPECT_EQ(compare_fingerprints(ours, ours, "checkpoint").other_ranks, 0);
+  const auto one = compare_fingerprints("ranks=1\nnodes=10\nincrement=0.0003\n", ours, "checkpoint");
+  EXPECT_EQ(one.differs, "");
+  EXPECT_EQ(one.other_ranks, 1);
   const std::string d =
-      fingerprint_differences("ranks=2\nnodes=10\nincrement=0.001\n", ours, other);
+      compare_fingerprints("ranks=2\nnodes=10\nincrement=0.001\n", ours, "checkpoint").differs;
   EXPECT_NE(d.find("checkpoint: increment=0.001"), std::string::npos);
   EXPECT_NE(d.find("this run: increment=0.0003"), std::string::npos);
-  EXPECT_NE(fingerprint_differences("ranks=2\n", ours, other), "");
+  EXPECT_NE(compare_fingerprints("ranks=2\n", ours, "checkpoint").differs, "");
+}
+
+// A line that only one side has is named, not "(a different option set)";
+// the sums of a set-up on other ranks agree to 1e-10; solver options may
+// differ where allowed (a checkpoint) and are named apart.
+TEST(Checkpoint, FingerprintDifferencesNameAMissingOptionAndKeepSolverLinesApart) {
+  const std::string ours =
+      "nodes=10\nbond_length_mean=0.31427800000000001\n-ksp_rtol=1e-08\n"
+      "-lattice_ground_stiffness=0.001\n";
+  const std::string theirs =
+      "nodes=10\nbond_length_mean=0.31427800000000006\n-ksp_rtol=0.01\n";
+  const auto d = compare_fingerprints(theirs, ours, "finished");
+  EXPECT_NE(d.differs.find("finished: -lattice_ground_stiffness not set   this run: "
+                           "-lattice_ground_stiffness=0.001"), std::string::npos) << d.differs;
+  EXPECT_NE(d.differs.find("finished: -ksp_rtol=0.01   this run: -ksp_rtol=1e-08"),
+            std::string::npos) << d.differs;
+  EXPECT_EQ(d.differs.find("bond_length_mean"), std::string::npos) << d.differs;
+  EXPECT_EQ(d.differs.find("different option set"), std::string::npos);
+  const auto c = compare_fingerprints(theirs, ours, "checkpoint", true);
+  EXPECT_EQ(c.differs.find("-ksp_rtol"), std::string::npos) << c.differs;
+  EXPECT_NE(c.solver_changes.find("-ksp_rtol=0.01"), std::string::npos);
+  EXPECT_NE(c.differs.find("-lattice_ground_stiffness"), std::string::npos);
+  // A real change of the sums is a difference.
+  EXPECT_NE(compare_fingerprints("bond_length_mean=0.30968\n", "bond_length_mean=0.314278\n",
+                                 "file").differs, "");
+}
+
+TEST(Fingerprint, OptionKinds) {
+  EXPECT_EQ(option_kind("-lattice_ground_stiffness"), OptionKind::physics);
+  EXPECT_EQ(option_kind("-ksp_rtol"), OptionKind::solver);
+  EXPECT_EQ(option_kind("-pc_gamg_threshold"), OptionKind::solver);
+  EXPECT_EQ(option_kind("-solver_operator"), OptionKind::solver);
+  EXPECT_EQ(option_kind("-ksp_monitor"), OptionKind::outside);
+  EXPECT_EQ(option_kind("-output_dir"), OptionKind::outside);
+  EXPECT_EQ(option_kind("-output_fields"), OptionKind::physics);
+  EXPECT_EQ(option_kind("-checkpoint_steps"), OptionKind::outside);
+  EXPECT_EQ(option_kind("-sample_parallel"), OptionKind::outside);
+  EXPECT_EQ(option_kind("-fracture_warn_energy"), OptionKind::outside);
 }
 
 namespace {

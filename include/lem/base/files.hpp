@@ -63,6 +63,13 @@ class OutputLock {
   int fd_ = -1;
 };
 
+/// What `path` is when it is neither a regular file nor missing: "a pipe
+/// (FIFO)", "a character device", "a block device", "a socket", "a
+/// directory"; "" for a regular file (through symbolic links) or no file.
+/// Only stat(2) is called: an input that is not a regular file (a pipe
+/// waits for a writer, /dev/zero never ends) is refused before it is opened.
+std::string not_a_regular_file(const std::string& path);
+
 /// CRC-32 (IEEE 802.3, as zlib.crc32 and `gzip`) of `n` bytes, continuing
 /// from `crc` (0 to start).
 std::uint32_t crc32(const void* data, std::size_t n, std::uint32_t crc = 0);

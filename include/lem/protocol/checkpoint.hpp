@@ -12,6 +12,7 @@
 
 #include "lem/system/distributed_lattice.hpp"
 #include "lem/protocol/damage_ledger.hpp"
+#include "lem/protocol/fingerprint.hpp"
 #include "lem/protocol/options.hpp"
 #include "lem/protocol/state.hpp"
 
@@ -50,17 +51,6 @@ void write_checkpoint_file(MPI_Comm comm, const std::string& path, const Checkpo
 Checkpoint read_checkpoint_file(MPI_Comm comm, const std::string& path,
                                 const std::vector<std::int64_t>& ids,
                                 const std::function<void(const Checkpoint&)>& accept = {});
-
-/// The sample (ids, stiffnesses, thresholds, hashed order-free) and the
-/// options that change the results, one "key=value" per line.  Collective.
-std::string fracture_fingerprint(const DistributedLattice& lattice,
-                                 const FractureOptions& options);
-
-/// Lines of two fingerprints that differ, as "<label>: ... this run: ..."
-/// (empty when they match).  The rank count may differ: `other_ranks` gets
-/// theirs when it does (0 otherwise).
-std::string fingerprint_differences(const std::string& theirs, const std::string& ours,
-                                    int& other_ranks, const char* label = "checkpoint");
 
 /// <output_dir>/checkpoint.bin.
 std::string checkpoint_path(const std::string& output_dir);

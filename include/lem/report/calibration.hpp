@@ -3,8 +3,11 @@
 // particle phase and the protocol options that change fracture results.
 // They are computed once and kept in a small text file with their
 // provenance, keyed by a hash of the homogeneous lattice's fingerprint
-// (protocol/checkpoint.hpp: bond ids, stiffnesses, thresholds, options; the
-// rank count left out), so every later run on the same lattice reuses them.
+// (protocol/fingerprint.hpp, FingerprintScope::calibration: the lattice by
+// content, the protocol, physics and solver options; the rank count left
+// out), so every later run on the same lattice and options reuses them, and
+// a calibration made under other physics or solver options has a key of its
+// own.  The warnings of the calibration run are kept with the values.
 #pragma once
 
 #include "lem/io/hdf5_writer.hpp"
@@ -13,11 +16,13 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace lem {
 
 struct Calibration {
   double sigma_hom = 0, e_hom = 0;  // in E^phase units
+  std::vector<std::string> warnings;  // of the calibration run, "code:count"
 };
 
 /// 16 hex digits of a hash of the fingerprint without its rank count.

@@ -65,14 +65,12 @@ const ResultLayout& stiffness_layout();
 const ResultLayout& convergence_layout();
 const ResultLayout& packing_layout();
 
-/// The fingerprint of a run that is its options: every option the program
-/// read, as "name=value" (given or default), but those that only say where
-/// and how results are written (-output_*), and PETSc's solver options
-/// (they change results within the solver's tolerance only); then `inputs`,
-/// lines that identify the input beyond its name (e.g. "sample_checksum=",
-/// sample_checksum in distributed_lattice.hpp).  Call it once every option
-/// is read.  Collective; the text is made on rank 0 (the folder's work is
-/// done there), "" elsewhere.
+/// The fingerprint of a run that is its options (lem/base/fingerprint.hpp:
+/// every option the program read, given or default, but those that only say
+/// where and how the run is kept), then `inputs`, lines that identify the
+/// input by content (e.g. lattice_fingerprint of protocol/fingerprint.hpp).
+/// Call it once every option is read.  Collective; the text is made on rank
+/// 0 (the folder's work is done there), "" elsewhere.
 std::string options_fingerprint(MPI_Comm comm, const std::string& inputs = "");
 
 /// A result folder opened by a run.  Collective: every method is called on
