@@ -48,6 +48,7 @@ set(LEM_LONG_TESTS
   fracture_warnings_mini          # fracture_warnings_default, _coarse
   study_bad_input                 # tests/python/test_study.py (study files refused)
   study_data_resume               # tests/python/test_study_data.py (resumed from the data)
+  fracture_identity               # Checkpoint.FingerprintDifferences*, fracture_calibration_reuse
 )
 
 # The bad_input group is long but for this sample: each driver, each class
@@ -67,7 +68,7 @@ set(LEM_QUICK_BAD_INPUTS
   bad_input_no_value_fracture bad_input_no_value_pack bad_input_no_value_stiffness
   bad_input_no_value_convergence bad_input_no_value_bench bad_input_petsc_real_not_a_number
   bad_input_fallback_preonly bad_input_options_file_missing bad_input_options_file_loop
-  ranks_error_alone ranks_error_petsc bad_checkpoint_crafted)
+  ranks_error_alone ranks_error_petsc bad_checkpoint_crafted bad_input_not_regular_files)
 
 # Group labels by the test's name, for the tests that have none yet (the
 # GoogleTest programs get `unit` or `mpi` from lem_add_test): `ctest -L

@@ -43,7 +43,7 @@ const char* const kSolverPrefixes[] = {"-ksp_", "-pc_", "-mg_", "-mat_", "-fallb
                                        "-patch_", "-sub_", "-redundant_", "-telescope_",
                                        "-solver_"};
 
-// One written form per value: numbers as %.17g, booleans as true/false (a
+// One written form per value: numbers in their shortest exact form, booleans as true/false (a
 // bare flag is true), so that "-ksp_rtol 1.0e-8" and the default 1e-8 agree.
 std::string canonical(const std::string& value, bool given) {
   if (given && value.empty()) return "true";
@@ -53,8 +53,11 @@ std::string canonical(const std::string& value, bool given) {
   char* end = nullptr;
   const double x = std::strtod(value.c_str(), &end);
   if (!value.empty() && end == value.c_str() + value.size() && std::isfinite(x)) {
-    char text[40];
-    std::snprintf(text, sizeof text, "%.17g", x);
+    char text[40];  // the shortest text that reads back as x
+    for (int digits = 15; digits <= 17; ++digits) {
+      std::snprintf(text, sizeof text, "%.*g", digits, x);
+      if (std::strtod(text, nullptr) == x) break;
+    }
     return text;
   }
   return value;

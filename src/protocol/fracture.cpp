@@ -102,6 +102,9 @@ void Protocol::resume() {
   // A rebuild asked for before the checkpoint (iteration growth, fallback).
   if (c.state.preconditioner.rebuild_pending) system_.rebuild_preconditioner();
   state_ = c.state;
+  // A checkpoint holds the state of an evaluated step: the one the next
+  // snapshot is counted from, as in the uninterrupted run.
+  last_visit_ = c.state.tally.steps;
   clock_.seconds_before = c.state.seconds_before;
   try {
     relaxation_->restore_state(c.relaxation_state);

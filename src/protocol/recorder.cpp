@@ -12,8 +12,10 @@
 #include <cerrno>
 #include <cstdarg>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <unistd.h>
 
 namespace lem {
@@ -102,15 +104,50 @@ const CurveColumn kCurveColumns[] = {
     {"elapsed_s", "wall time since the start (s)"},
 };
 
+// The step of a snapshot file as the recorder names it (snapshot_<step>.h5,
+// .xmf, _nodes.xmf, also under a temporary .tmp name), or -1 for any other
+// name: a user's snapshot_notes.txt is left alone.
+std::int64_t snapshot_step(std::string name) {
+  const std::string prefix = "snapshot_";
+  if (name.size() > 4 && name.compare(name.size() - 4, 4, ".tmp") == 0)
+    name.resize(name.size() - 4);
+  if (name.rfind(prefix, 0) != 0) return -1;
+  std::size_t end = prefix.size();
+  while (end < name.size() && name[end] >= '0' && name[end] <= '9') ++end;
+  const std::string rest = name.substr(end);
+  if (end - prefix.size() < 7 || (rest != ".h5" && rest != ".xmf" && rest != "_nodes.xmf"))
+    return -1;
+  return std::stoll(name.substr(prefix.size(), end - prefix.size()));
+}
+
 // snapshot_<step>.xmf (the bonds grid), not snapshot_<step>_nodes.xmf.
 bool is_snapshot_grid(const std::string& name) {
-  const std::string prefix = "snapshot_", suffix = ".xmf";
-  if (name.size() < prefix.size() + 7 + suffix.size() || name.rfind(prefix, 0) != 0 ||
-      name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0)
-    return false;
-  return std::all_of(name.begin() + static_cast<std::ptrdiff_t>(prefix.size()),
-                     name.end() - static_cast<std::ptrdiff_t>(suffix.size()),
-                     [](char c) { return c >= '0' && c <= '9'; });
+  return snapshot_step(name) >= 0 && name.size() > 4 &&
+         name.compare(name.size() - 4, 4, ".xmf") == 0 &&
+         name.find("_nodes.xmf") == std::string::npos;
+}
+
+// Rank 0: remove the snapshots of `dir` after load step `last` (all: -1),
+// and their series, which finish() writes again.
+void remove_snapshots_after(const std::string& dir, std::int64_t last) {
+  std::error_code ec;
+  std::vector<std::filesystem::path> stale;
+  for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (snapshot_step(name) > last || name == "snapshots.xmf") stale.push_back(entry.path());
+  }
+  for (const auto& path : stale) std::filesystem::remove(path, ec);
+}
+
+// The load step of the last row of a curve file cut back to its checkpoint
+// (0 when it holds the header only).
+std::int64_t last_curve_step(const std::string& path) {
+  std::ifstream in(path);
+  std::string line, last;
+  while (std::getline(in, line))
+    if (!line.empty()) last = line;
+  long long step = 0;
+  return std::sscanf(last.c_str(), "%lld,", &step) == 1 ? step : 0;
 }
 
 }  // namespace
@@ -140,10 +177,7 @@ void FractureRecorder::open_new() {
     curve_.open("wb");
     broken_.open("wb");
     // Snapshots of an earlier run would mix with this run's.
-    std::error_code ec;
-    for (const auto& entry : std::filesystem::directory_iterator(output_.dir, ec))
-      if (entry.path().filename().string().rfind("snapshot", 0) == 0)  // snapshots.xmf too
-        std::filesystem::remove(entry.path(), ec);
+    remove_snapshots_after(output_.dir, -1);
     // The header row comes first, so that any CSV reader takes the file as
     // it is; units and the normalisation go to the sidecar curve.json.
     curve_.print("%s\n", curve_header().c_str());
@@ -183,6 +217,10 @@ void FractureRecorder::reopen(const ResultFileMarks& marks) {
         throw IoError("cannot resume: '" + part + "' is unwritable (" + std::strerror(errno) +
                       "); remove the checkpoint to start over");
     }
+    // Snapshots written after the checkpoint: the resumed run writes those it
+    // reaches again, and one it does not reach (a lower -fracture_max_steps)
+    // is not part of its result.
+    remove_snapshots_after(output_.dir, last_curve_step(curve_.part()));
     curve_.open("ab");
     broken_.open("ab");
     // ftell() of a fresh append stream may say 0 until the first write.

@@ -22,13 +22,22 @@ bool listed(const std::vector<std::string>& names, const std::string& name) {
   return std::find(names.begin(), names.end(), name) != names.end();
 }
 
-// fields.h5, fields.xmf, fields_nodes.xmf, snapshot_000120.h5: a file of
-// the family `stem`.
+// A file of the family `stem`, as the programs name them: <stem>.h5,
+// <stem>.xmf, <stem>_nodes.xmf, and the same with a step after the stem
+// (snapshot_0000120.h5); snapshots.xmf is the family "snapshots".  Nothing
+// else: a user's fields_mine.h5 or snapshot_notes.h5 is not the program's.
 bool of_family(const std::string& name, const std::string& stem) {
-  if (name.rfind(stem, 0) != 0 || name.size() == stem.size()) return false;
-  const char next = name[stem.size()];
-  const std::string ext = fs::path(name).extension().string();
-  return (next == '.' || next == '_') && (ext == ".h5" || ext == ".xmf");
+  if (name.rfind(stem, 0) != 0) return false;
+  std::size_t at = stem.size();
+  const auto digit = [&](std::size_t k) {
+    return k < name.size() && name[k] >= '0' && name[k] <= '9';
+  };
+  if (at < name.size() && name[at] == '_' && digit(at + 1)) {
+    ++at;
+    while (digit(at)) ++at;
+  }
+  const std::string rest = name.substr(at);
+  return rest == ".h5" || rest == ".xmf" || rest == "_nodes.xmf";
 }
 
 bool of_families(const std::string& name, const std::vector<std::string>& stems) {
@@ -66,10 +75,15 @@ std::string joined(const std::vector<std::string>& words) {
 }  // namespace
 
 bool ResultLayout::owns(const std::string& name) const {
+  // A file being written under a temporary name: one of the result's names
+  // (or the manifest's) with .part or .tmp after it; a user's notes.tmp is not.
   const std::string ext = fs::path(name).extension().string();
+  if (ext == ".part" || ext == ".tmp") {
+    const std::string final_name = fs::path(name).stem().string();
+    return final_name == "manifest.txt" || (!final_name.empty() && owns(final_name));
+  }
   return listed(required, name) || listed(optional, name) || listed(extras, name) ||
-         of_families(name, final_families) || of_families(name, running_families) ||
-         ext == ".part" || ext == ".tmp";
+         of_families(name, final_families) || of_families(name, running_families);
 }
 
 const ResultLayout& fracture_layout() {

@@ -44,6 +44,15 @@ def test_valid_study_gets_the_defaults(tmp_path):
     (("[0.13, 0.24]", "[0.13, 0.9]"), r"matrix_fractions value 0.9 outside \(0, 0.5\]"),
     (("[0.4, 1.2]", "[]"), "the grid is empty"),
     (("[0.4, 1.2]", "[0.4, 0.4]"), "sigma_pm_ratios has repeated values"),
+    # Runs are named by the values to 4 decimals: two that agree there would
+    # share one run (and a sample, for matrix fractions).
+    (("[0.4, 1.2]", "[0.4, 0.40001]"), r"sigma_pm_ratios values 0.4 and 0.40001 agree to 4 "
+                                       r"decimals \(0.4000\)"),
+    (("[0.13, 0.24]", "[0.13, 0.130004]"), "matrix_fractions values 0.13 and 0.130004 agree"),
+    # A key given twice is not the last one silently.
+    (("ranks: 1", "ranks: 1\nranks: 3"), r"key 'ranks' is given twice \(lines 2 and 3\)"),
+    (("sample: {sample_particles: 8,", "sample: {sample_particles: 8, sample_particles: 9,"),
+     "key 'sample_particles' is given twice"),
     (("name: t", "name: t\nphases: {sigma_p: true}"), "phases.sigma_p must be a number > 0"),
     (("name: t", "name: t\nphases: {E_p: .inf}"), "phases.E_p must be a number > 0"),
     (("name: t", "name: t\nphases: {E_p: -3}"), "phases.E_p must be a number > 0"),
@@ -84,6 +93,14 @@ def test_unreadable_study_files(tmp_path):
         load_study(study_file(tmp_path, "a: [1,"))
     with pytest.raises(StudyError, match="expected a mapping"):
         load_study(study_file(tmp_path, "- 1\n- 2\n"))
+
+
+def test_an_output_path_that_is_a_file_is_named(tmp_path):
+    out = tmp_path / "out"
+    out.write_text("a file of the user's\n")
+    with pytest.raises(StudyError, match="output folder .*out is a file, not a folder"):
+        Study(study_file(tmp_path), str(out))
+    assert out.read_text() == "a file of the user's\n"
 
 
 def test_hash_ignores_the_rank_count_only(tmp_path):

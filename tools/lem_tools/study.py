@@ -109,6 +109,26 @@ class StudyError(ToolError):
     pass
 
 
+class _UniqueKeyLoader(yaml.SafeLoader):
+    """YAML's safe loader, but a key given twice in one mapping is an error
+    (PyYAML keeps the last one silently)."""
+
+    def construct_mapping(self, node, deep=False):
+        seen = {}
+        for key_node, _ in node.value:
+            key = self.construct_object(key_node, deep=deep)
+            try:
+                if key in seen:
+                    raise yaml.constructor.ConstructorError(
+                        None, None, "key %r is given twice (lines %d and %d)"
+                        % (key, seen[key] + 1, key_node.start_mark.line + 1),
+                        key_node.start_mark)
+                seen[key] = key_node.start_mark.line
+            except TypeError:  # an unhashable key: the base class says so
+                pass
+        return super().construct_mapping(node, deep=deep)
+
+
 def options_list(d):
     """{name: value} -> ['-name', 'value', ...] (booleans as true/false)."""
     out = []
@@ -122,7 +142,7 @@ def load_study(path):
     the first problem."""
     try:
         with open(path) as f:
-            s = yaml.safe_load(f)
+            s = yaml.load(f, Loader=_UniqueKeyLoader)
     except OSError as e:
         raise StudyError("cannot read the study file %s: %s" % (path, e))
     except yaml.YAMLError as e:
@@ -177,6 +197,14 @@ def load_study(path):
                 raise bad("%s value %r outside (%g, %g]", key, v, low, high)
         if len(set(values)) != len(values):
             raise bad("%s has repeated values", key)
+        # Samples and runs are named by their values to 4 decimals.
+        named = {}
+        for v in values:
+            if "%.4f" % v in named:
+                raise bad("%s values %r and %r agree to 4 decimals (%.4f), which name the "
+                          "samples and runs: they would share one; give values that differ "
+                          "there", key, named["%.4f" % v], v, v)
+            named["%.4f" % v] = v
         study[key] = [float(v) for v in values]
     phases = dict(PHASE_KEYS)
     given = mapping("phases")
@@ -214,6 +242,9 @@ def study_hash(study):
 class Study:
     def __init__(self, path, out, bin_dir=None, data=None):
         self.spec = load_study(path)
+        if os.path.exists(out) and not os.path.isdir(out):
+            raise StudyError("the study's output folder %s is a file, not a folder: choose "
+                             "another path" % out)
         self.out = out
         self.bin = bin_dir or os.environ.get("LEM_BIN") or os.path.join(ROOT, "build")
         self.hash = study_hash(self.spec)
