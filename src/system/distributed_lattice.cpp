@@ -229,18 +229,4 @@ DistributedLattice distribute_lattice(MPI_Comm comm, const Lattice& lattice,
   return dl;
 }
 
-std::uint64_t sample_checksum(const DistributedLattice& l) {
-  std::uint64_t sum = 0;
-  for (int b = 0; b < l.local_bonds(); ++b) {
-    if (!l.bond_reported[b]) continue;
-    std::uint64_t k = 0, f = 0;
-    std::memcpy(&k, &l.bond_stiffness[b], 8);
-    if (!l.bond_strength.empty()) std::memcpy(&f, &l.bond_strength[b], 8);
-    sum += mix64(static_cast<std::uint64_t>(l.bond_id[b]) ^ mix64(k ^ mix64(f)));
-  }
-  std::uint64_t total = 0;
-  MPI_Allreduce(&sum, &total, 1, MPI_UINT64_T, MPI_SUM, l.comm);
-  return total;
-}
-
 }  // namespace lem

@@ -49,11 +49,6 @@ struct DistributedLattice {
   int ghosts() const { return local_nodes() - owned; }
 };
 
-/// An order-free hash of the intact sample: every bond's id, stiffness and
-/// threshold, the same on any rank count.  Each rank hashes the bonds it
-/// reports, so no rank reads the whole sample.  Collective.
-std::uint64_t sample_checksum(const DistributedLattice& lattice);
-
 /// Scatter from rank 0: `lattice`, `constraints` and `partition` are read on
 /// rank 0 only (other ranks may pass empty objects).
 DistributedLattice distribute_lattice(MPI_Comm comm, const Lattice& lattice,
