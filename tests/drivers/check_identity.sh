@@ -8,7 +8,8 @@
 #                lem_tension given two lattice sizes refuses the conflict
 #   fingerprint  the shipped tiny sample: -sample_parallel reuses the default
 #                set-up's calibration, recognises its result and resumes its
-#                checkpoint; -lattice_ground_stiffness, moved coordinates or
+#                checkpoint; -lattice_ground_stiffness, other coordinates (x and
+#                y swapped: every bond length the same) or
 #                another -ksp_rtol are another result (named) and another
 #                calibration (its own key, its warnings kept: an error under
 #                -fracture_strict when reused); a checkpoint resumes under
@@ -89,19 +90,20 @@ fingerprint)
     fail "a result of -lattice_ground_stiffness 1e-10 was called that of 1e-3"
   grep -q "finished: -lattice_ground_stiffness=1e-10   this run: -lattice_ground_stiffness=0.001" ground.log ||
     fail "the refusal does not name the option: $(tail -3 ground.log)"
-  # A sample whose coordinates differ, bonds and phases the same.
+  # A sample whose coordinates differ, its bonds, phases and every bond's
+  # length (so every stiffness and threshold) the same: x and y swapped.
   $py - tiny.h5 moved.h5 <<'EOF' || fail "cannot write moved.h5"
 import shutil, sys, h5py
 shutil.copy(sys.argv[1], sys.argv[2])
 with h5py.File(sys.argv[2], "r+") as f:
-    x = f["/nodes/coordinates"]
-    row = x[100]
-    row[0] += 1e-9
-    x[100] = row
+    for name in ("/nodes/coordinates", "/particles/centres"):
+        x = f[name][()]
+        x[:, [0, 1]] = x[:, [1, 0]]
+        f[name][...] = x
 EOF
   "${mpi[@]}" -n 2 "$build/lem_fracture" -sample_file moved.h5 -output_fields false \
     -fracture_max_steps 3 -output_dir a > moved.log 2>&1 &&
-    fail "a sample with a moved node was called the same result"
+    fail "a sample with other coordinates was called the same result"
   grep -q "finished: sample_content=" moved.log || fail "the refusal does not name the sample's content: $(tail -3 moved.log)"
   # Other solver options: a calibration of their own, with their warnings.
   run loose 2 -ksp_rtol 1e-2 -output_dir loose || fail "-ksp_rtol 1e-2: $(tail -2 loose.log)"
