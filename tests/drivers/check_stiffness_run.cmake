@@ -96,7 +96,7 @@ foreach(line ${lines})
         miss LESS tol AND miss GREATER neg_tol)
   check("rho_p + rho_m + rho_v = 1 + ${sum}e-6" sum GREATER -4 AND sum LESS 4)
   check("bridges holding matrix (${bridges}) exceed the eligible pairs (${eligible}) per particle"
-        NOT bridges GREATER eligible)
+        bridges GREATER_EQUAL 0 AND bridges LESS_EQUAL eligible)
   check("E_adhesive=${adhesive} not above E_bare=${bare}, or not below E^[p]"
         adhesive GREATER bare AND adhesive LESS 1 AND bare GREATER 0)
   check("E_adhesive=${adhesive} above its HS upper bound ${hs_adhesive}"

@@ -2,7 +2,9 @@
 # file, with E and nu in the summary.
 #   -DRUN="mpiexec ... lem_tension" -DDIR=<output dir>
 #   optional: -DARGS="<sample options>" (default a 3000-node random lattice),
-#   plausible ranges -DE_MIN/-DE_MAX/-DNU_MIN/-DNU_MAX.
+#   plausible ranges -DE_MIN/-DE_MAX/-DNU_MIN/-DNU_MAX; each value must be
+#   present and finite (tests/drivers/check_values.cmake).
+include(${CMAKE_CURRENT_LIST_DIR}/check_values.cmake)
 foreach(v "ARGS;-lattice_nodes 3000" "E_MIN;1.0" "E_MAX;4.0" "NU_MIN;0.1" "NU_MAX;0.35")
   list(GET v 0 name)
   list(GET v 1 default)
@@ -24,10 +26,7 @@ foreach(f summary.json summary.csv fields.h5 fields.xmf)
   endif()
 endforeach()
 file(READ ${DIR}/summary.json json)
-string(JSON e GET ${json} E_eff)
-string(JSON nu GET ${json} nu)
-string(JSON gap GET ${json} energy_relative_gap)
-if(e LESS E_MIN OR e GREATER E_MAX OR nu LESS NU_MIN OR nu GREATER NU_MAX OR gap GREATER 1e-6)
-  message(FATAL_ERROR "implausible results: E_eff=${e} nu=${nu} energy gap=${gap}")
-endif()
+lem_summary_number(e "${json}" E_eff ${E_MIN} ${E_MAX})
+lem_summary_number(nu "${json}" nu ${NU_MIN} ${NU_MAX})
+lem_summary_number(gap "${json}" energy_relative_gap 0 1e-6)
 message(STATUS "E_eff=${e} nu=${nu} energy gap=${gap}")

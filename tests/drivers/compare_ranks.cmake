@@ -2,6 +2,7 @@
 # (relative): the partition changes only the order of the sums and the
 # multigrid hierarchy, not the solution beyond the solver tolerance.
 #   -DRUN1="mpiexec -n 1 prog" -DRUN2="mpiexec -n 2 prog" -DARGS="..." -DDIR=<dir>
+include(${CMAKE_CURRENT_LIST_DIR}/check_values.cmake)
 separate_arguments(ARGS UNIX_COMMAND "${ARGS}")
 foreach(n 1 2)
   separate_arguments(run UNIX_COMMAND "${RUN${n}}")
@@ -12,7 +13,8 @@ foreach(n 1 2)
     message(FATAL_ERROR "run on ${n} rank(s) failed (${status}):\n${out}\n${err}")
   endif()
   file(READ ${DIR}/np${n}/summary.json json)
-  string(JSON e${n} GET ${json} E_eff)
+  # Present, finite and positive (tests/drivers/check_values.cmake).
+  lem_summary_number(e${n} "${json}" E_eff 1e-300 1e300 np${n}/summary.json)
 endforeach()
 # CMake has no floating-point arithmetic: let awk compare.
 execute_process(COMMAND awk "BEGIN { d = (${e1} - ${e2}) / ${e1}; if (d < 0) d = -d; print d; exit !(d <= 1e-6) }"
