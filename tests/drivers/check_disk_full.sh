@@ -13,7 +13,8 @@
 #              SIGUSR1 ends the job after -output_write_grace (exit 4), the
 #              same command then gives the complete result
 #   sample     lem_sample at 2 ranks on a 16 KiB tmpfs: exit 3 naming the file
-# Skipped (77) when a tmpfs cannot be mounted.
+# Skipped (77) when a tmpfs cannot be mounted (under CI=true it fails
+# instead: tmpfs.sh).
 set -u
 mode="$1"; prog="$2"; sampler="$3"; work="$4"; shift 4
 mpi=("$@")
@@ -21,12 +22,8 @@ args=(-lattice_bonds 6000 -lattice_seed 3 -strength_disorder uniform -fracture_s
       -checkpoint_steps 4 -checkpoint_seconds 0 -output_snapshot_steps 5)
 fail() { echo "FAIL: $*"; exit 1; }
 disk="$work/disk"
-mount_tmpfs() {  # mount_tmpfs SIZE: a fresh tmpfs at $disk
-  while mountpoint -q "$disk" 2> /dev/null; do umount -l "$disk"; done
-  mkdir -p "$disk"
-  mount -t tmpfs -o "size=$1" tmpfs "$disk" 2> /dev/null ||
-    { echo "SKIP: cannot mount a tmpfs"; exit 77; }
-}
+source "$(dirname "$0")/tmpfs.sh"
+mount_tmpfs() { mount_tmpfs_at "$disk" "$1"; }  # mount_tmpfs SIZE: a fresh tmpfs at $disk
 while mountpoint -q "$disk" 2> /dev/null; do umount -l "$disk"; done
 rm -rf "$work"; mkdir -p "$work"
 trap 'while mountpoint -q "$disk" 2> /dev/null; do umount -l "$disk"; done' EXIT

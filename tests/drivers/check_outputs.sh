@@ -13,6 +13,7 @@
 #                  computes it again
 #   disk_full      a full disk (a 16 KiB tmpfs) gives exit 3 naming the file
 #                  and no final-looking result; skipped (77) if mount fails
+#                  (under CI=true it fails instead: tmpfs.sh)
 #   commit_kill    kill -9 at each step of the commit (LEM_FAULT_KILL), then
 #                  the same command: the complete result, equal to a run
 #                  never killed
@@ -163,9 +164,8 @@ concurrent)
   ;;
 disk_full)
   # The log stays outside: an MPI singleton's helper keeps it open a while.
-  mkdir -p "$work/full"
-  mount -t tmpfs -o size=16k tmpfs "$work/full" 2> /dev/null ||
-    { echo "SKIP: cannot mount a tmpfs"; exit 77; }
+  source "$(dirname "$0")/tmpfs.sh"
+  mount_tmpfs_at "$work/full" 16k
   trap 'umount -l "$work/full"' EXIT
   # No checkpoint: the curve and the log are what fills the disk.
   run "$work/full" -output_fields false -checkpoint_steps 0; status=$?
