@@ -9,7 +9,8 @@ if ! command -v dpkg-query > /dev/null; then
 fi
 packages=(build-essential cmake pkg-config git petsc-dev libmetis-dev libcgal-dev
           libhdf5-openmpi-dev openmpi-bin libgtest-dev python3-matplotlib python3-h5py
-          python3-numpy python3-scipy python3-yaml python3-pytest python3-meshio)
+          python3-numpy python3-scipy python3-yaml python3-pytest python3-meshio
+          clang-format-14)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
