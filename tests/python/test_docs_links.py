@@ -99,6 +99,28 @@ def test_user_pages_name_no_issue(page):
     assert not found, "\n".join(found)
 
 
+DATED_FOLDERS = ("guide", "model", "reference", "developer")
+ISO_DATE = re.compile(r"\b\d{4}-\d{2}-\d{2}\b")
+
+
+@pytest.mark.parametrize("page", [p for p in markdown_pages()
+                                  if os.path.relpath(p, os.path.join(ROOT, "docs")).split(os.sep)[0]
+                                  in DATED_FOLDERS],
+                         ids=lambda p: os.path.relpath(p, ROOT))
+def test_reference_pages_carry_no_dates(page):
+    """The guide, model, reference and developer pages say what is true now:
+    a dated measurement goes to docs/notes/ (linked from the page)."""
+    with open(page, encoding="utf-8") as f:
+        found = ["%d: %s" % (n, line.strip()) for n, line in enumerate(f, 1)
+                 if ISO_DATE.search(line)]
+    assert not found, "\n".join(found)
+
+
+def test_date_rule():
+    assert ISO_DATE.search("measured 2026-11-26 on")
+    assert not ISO_DATE.search("seeds 1-3, 10-20 s, 2026-11")
+
+
 def test_anchor_rule():
     assert anchor("Decided solves (`-fracture_decision_safety`)") == \
         "decided-solves--fracture_decision_safety"
