@@ -22,8 +22,15 @@ double box_side(const Box& box) {
   return std::max({box.length(0), box.length(1), box.length(2)});
 }
 
+// Appended piece by piece: GCC 12 warns (-Wrestrict, a false positive) on
+// "(" + std::string.
 std::string point_text(const Point& p) {
-  return "(" + value_text(p[0]) + ", " + value_text(p[1]) + ", " + value_text(p[2]) + ")";
+  std::string text = "(";
+  for (int a = 0; a < 3; ++a) {
+    text += value_text(p[a]);
+    text += a < 2 ? ", " : ")";
+  }
+  return text;
 }
 
 }  // namespace
