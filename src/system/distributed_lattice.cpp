@@ -38,7 +38,9 @@ class Unpacker {
     std::memcpy(&n, bytes_.data() + pos_, sizeof(n));
     pos_ += sizeof(n);
     v.resize(n);
-    std::memcpy(v.data(), bytes_.data() + pos_, n * sizeof(T));
+    // An empty vector's data() may be null, which memcpy may not be given
+    // even for no bytes (UBSan).
+    if (n > 0) std::memcpy(v.data(), bytes_.data() + pos_, n * sizeof(T));
     pos_ += n * sizeof(T);
   }
 

@@ -76,7 +76,7 @@ class ByteReader {
   }
   void raw(void* p, std::size_t n) {
     if (n > end_ - pos_) throw std::runtime_error("short");
-    std::memcpy(p, b_.data() + pos_, n);
+    if (n > 0) std::memcpy(p, b_.data() + pos_, n);  // p may be null then (an empty vector)
     pos_ += n;
   }
   bool at_end() const { return pos_ == end_; }
