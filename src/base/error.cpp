@@ -139,7 +139,10 @@ void agree_on_error(MPI_Comm comm, const std::exception_ptr& error) {
     } catch (...) {
     }
   }
-  broadcast_value(comm, type, first);
+  // A plain MPI_Bcast of the int: through broadcast_value's lambda, inlined
+  // here, GCC 12's AddressSanitizer reported an 8-byte read of the 4-byte
+  // root (jobs/check-sanitizers.sh), in agree_on_error and RankEnds::finish.
+  MPI_Bcast(&type, 1, MPI_INT, first, comm);
   std::vector<char> text(message.begin(), message.end());
   broadcast(comm, text, first);
   // The failing rank keeps its own exception (and its exact type).
@@ -205,7 +208,7 @@ int RankEnds::finish(int status, const std::string& message) {
   MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, comm_);
   if (first == ranks) return 0;
   int agreed = status;
-  broadcast_value(comm_, agreed, first);
+  MPI_Bcast(&agreed, 1, MPI_INT, first, comm_);  // as in agree_on_error
   const std::string text = broadcast_string(comm_, message, first);
   if (rank == 0) {
     std::fflush(stdout);
