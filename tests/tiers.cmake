@@ -40,6 +40,7 @@ set(LEM_LONG_TESTS
   outputs_overwrite_stale         # outputs_concurrent
   signal_reference                # fracture_restart_signal (the fixture of the signal_* tests)
   signal_calibration              # fracture_restart_signal
+  signal_calibration_kill         # fracture_restart_kill (kill -9, resumed), fracture_calibration_reuse
   signal_after_calibration        # fracture_restart_signal
   signal_avalanche                # fracture_restart_signal
   signal_final_writes             # fracture_restart_signal

@@ -171,7 +171,10 @@ void Relaxation::check_decision(const std::vector<double>& tensions) {
   const std::vector<Rupture> decided = p_.critical.find(tensions);
   auto ids = [](const std::vector<Rupture>& batch) {
     std::string s;
-    for (const Rupture& r : batch) s += " " + std::to_string(r.id);
+    for (const Rupture& r : batch) {
+      s += ' ';
+      s += std::to_string(r.id);
+    }
     return s.empty() ? std::string(" none") : s;
   };
   int rank = 0;
