@@ -2,7 +2,9 @@
 
 #include "bond_operator.hpp"
 #include "particle_deflation.hpp"
+#include "ritz_deflation.hpp"
 #include "solver_defaults.hpp"
+#include "spectrum_probe.hpp"
 
 #include "lem/base/error.hpp"
 #include "lem/base/log.hpp"
@@ -117,8 +119,15 @@ ElasticSystem::ElasticSystem(DistributedLattice& lattice, const SolverOptions& o
   set_from_options(ksp_);
   if (options.single_cycle)
     single_cycle_ = std::make_unique<SingleCycle>(lattice_, ground_, diagonal_scale_, ksp_);
+  if (options.particle_deflation && options.ritz_deflation > 0)
+    throw InputError("options -solver_particle_deflation and -solver_ritz_deflation cannot be "
+                     "used together: choose one deflation space");
   if (options.particle_deflation)
     deflation_ = std::make_unique<ParticleDeflation>(lattice_, K_, ksp_);
+  if (options.ritz_deflation > 0)
+    ritz_ = std::make_unique<RitzDeflation>(K_, ksp_, options.ritz_deflation);
+  spectrum_solves_ = options.spectrum_solves;
+  spectrum_prefix_ = options.spectrum_prefix;
   install_convergence_test();
   create_fallback();  // now, so that its -fallback_* options count as used
   stage.pop();
@@ -182,6 +191,7 @@ void ElasticSystem::assemble() {
   if (bonds_) bonds_->read_stiffness();
   operator_changed_ = true;
   if (deflation_) deflation_->operator_changed();
+  if (ritz_) ritz_->operator_changed();
   stage.pop();
 }
 
@@ -197,6 +207,7 @@ void ElasticSystem::finish_updates() {
   LEM_PETSC(MatAssemblyEnd(K_, MAT_FINAL_ASSEMBLY));
   operator_changed_ = true;
   if (deflation_) deflation_->operator_changed();
+  if (ritz_) ritz_->operator_changed();
 }
 
 void ElasticSystem::assemble_rhs(double top_displacement) {
@@ -295,6 +306,12 @@ SolveReport ElasticSystem::solve(double top_displacement, const EarlyStop* early
                          KSPConvergedReasons[report.reason] + " after " +
                          std::to_string(report.iterations) + " iterations (residual norm " +
                          std::to_string(report.residual_norm) + ")" + hint);
+  }
+  if (std::find(spectrum_solves_.begin(), spectrum_solves_.end(), solves_) !=
+      spectrum_solves_.end()) {
+    PC pc = nullptr;
+    LEM_PETSC(KSPGetPC(ksp_, &pc));
+    probe_spectrum(lattice_, K_, pc, b_, u_start_, rtol(), spectrum_prefix_, solves_, 8);
   }
   current_displacement_ = top_displacement;
   operator_changed_ = false;
@@ -405,6 +422,7 @@ SolveReport ElasticSystem::attempt_solve(const EarlyStop* early) {
   pc_ready_ = true;
   pc_stage.pop();
   if (deflation_) deflation_->prepare(b_, u_);
+  if (ritz_) ritz_->prepare(b_, u_);
   report.setup_seconds = MPI_Wtime() - t0;
   t0 = MPI_Wtime();
   LogStageScope solve_stage(tighter_solve_ ? stages.solve_tighter : stages.solve);
@@ -416,6 +434,7 @@ SolveReport ElasticSystem::attempt_solve(const EarlyStop* early) {
   convergence_->error = nullptr;
   const PetscErrorCode solved = KSPSolve(ksp_, b_, u_);
   convergence_->early = nullptr;
+  if (ritz_ && !solved) ritz_->learn();
   if (convergence_->error) std::rethrow_exception(convergence_->error);
   if (solved) throw PetscFailure("KSPSolve(ksp_, b_, u_)", solved);
   report.stopped_early = convergence_->stopped;
@@ -498,6 +517,7 @@ void ElasticSystem::pin_nodes(const std::vector<int>& local_nodes) {
   }
   if (bonds_) bonds_->constraints_changed();
   if (deflation_) deflation_->constraints_changed();
+  if (ritz_) ritz_->operator_changed();
 }
 
 }  // namespace lem

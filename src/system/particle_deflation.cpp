@@ -32,6 +32,45 @@ Modes rigid_modes(const double x[3], int a) {
 
 }  // namespace
 
+PC wrap_preconditioner(KSP ksp, void* context, const char* name, PetscErrorCode (*setup)(PC),
+                       PetscErrorCode (*apply)(PC, Vec, Vec)) {
+  PC inner = nullptr;
+  LEM_PETSC(KSPGetPC(ksp, &inner));
+  Mat A = nullptr, P = nullptr;  // the operators live in the PC: carried over
+  LEM_PETSC(KSPGetOperators(ksp, &A, &P));
+  LEM_PETSC(PetscObjectReference(reinterpret_cast<PetscObject>(A)));
+  LEM_PETSC(PetscObjectReference(reinterpret_cast<PetscObject>(P)));
+  LEM_PETSC(PetscObjectReference(reinterpret_cast<PetscObject>(inner)));
+  PC shell = nullptr;
+  LEM_PETSC(PCCreate(PetscObjectComm(reinterpret_cast<PetscObject>(ksp)), &shell));
+  LEM_PETSC(PCSetType(shell, PCSHELL));
+  LEM_PETSC(PCShellSetName(shell, name));
+  LEM_PETSC(PCShellSetContext(shell, context));
+  LEM_PETSC(PCShellSetSetUp(shell, setup));
+  LEM_PETSC(PCShellSetApply(shell, apply));
+  LEM_PETSC(KSPSetPC(ksp, shell));  // the KSP takes its own reference
+  LEM_PETSC(PCDestroy(&shell));
+  LEM_PETSC(KSPSetOperators(ksp, A, P));
+  LEM_PETSC(MatDestroy(&A));
+  LEM_PETSC(MatDestroy(&P));
+  return inner;
+}
+
+PetscErrorCode set_up_inner_preconditioner(PC shell, PC inner) {
+  PetscFunctionBeginUser;
+  Mat A = nullptr, P = nullptr;
+  PetscCall(PCGetOperators(shell, &A, &P));
+  PetscCall(PCSetReusePreconditioner(inner, PETSC_FALSE));
+  PetscCall(PCSetOperators(inner, A, P));
+  PetscCall(PCSetUp(inner));
+  PetscCall(apply_multigrid_level_defaults(inner));
+  // PCApply sets a PC up again whenever its matrix changed; K changes in
+  // place after every batch of ruptures, and the multigrid is rebuilt only
+  // when the outer KSP decides (reused between load steps).
+  PetscCall(PCSetReusePreconditioner(inner, PETSC_TRUE));
+  PetscFunctionReturn(0);
+}
+
 ParticleDeflation::ParticleDeflation(const DistributedLattice& lattice, Mat K, KSP ksp)
     : lattice_(lattice), K_(K) {
   int has = lattice_.node_particle.empty() ? 0 : 1, any = 0;
@@ -39,17 +78,8 @@ ParticleDeflation::ParticleDeflation(const DistributedLattice& lattice, Mat K, K
   if (!any)
     throw InputError("-solver_particle_deflation needs the particle of every node: use a "
                      "cemented sample (-sample_file or -sample_*), not a plain lattice");
-  LEM_PETSC(KSPGetPC(ksp, &inner_));
-  LEM_PETSC(PetscObjectReference(reinterpret_cast<PetscObject>(inner_)));
-  PC shell = nullptr;
-  LEM_PETSC(PCCreate(lattice_.comm, &shell));
-  LEM_PETSC(PCSetType(shell, PCSHELL));
-  LEM_PETSC(PCShellSetName(shell, "per-particle rigid-body deflation"));
-  LEM_PETSC(PCShellSetContext(shell, this));
-  LEM_PETSC(PCShellSetSetUp(shell, shell_setup));
-  LEM_PETSC(PCShellSetApply(shell, shell_apply));
-  LEM_PETSC(KSPSetPC(ksp, shell));  // the KSP takes its own reference
-  LEM_PETSC(PCDestroy(&shell));
+  inner_ = wrap_preconditioner(ksp, this, "per-particle rigid-body deflation", shell_setup,
+                               shell_apply);
   LEM_PETSC(KSPSetOperators(ksp, K_, K_));
 
   // The coarse problem is small: factored whole on every rank.
@@ -216,14 +246,7 @@ PetscErrorCode ParticleDeflation::shell_setup(PC pc) {
   PetscFunctionBeginUser;
   ParticleDeflation* d = nullptr;
   PetscCall(PCShellGetContext(pc, &d));
-  PetscCall(PCSetReusePreconditioner(d->inner_, PETSC_FALSE));
-  PetscCall(PCSetOperators(d->inner_, d->K_, d->K_));
-  PetscCall(PCSetUp(d->inner_));
-  PetscCall(apply_multigrid_level_defaults(d->inner_));
-  // PCApply sets a PC up again whenever its matrix changed; K changes in
-  // place after every batch of ruptures, and the multigrid is rebuilt only
-  // when the outer KSP decides (reused between load steps).
-  PetscCall(PCSetReusePreconditioner(d->inner_, PETSC_TRUE));
+  PetscCall(set_up_inner_preconditioner(pc, d->inner_));
   PetscFunctionReturn(0);
 }
 

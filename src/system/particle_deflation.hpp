@@ -22,6 +22,15 @@
 
 namespace lem {
 
+/// Put a shell preconditioner (`setup`, `apply`, with `context`) in the
+/// place of the KSP's preconditioner, and return that one (the inner M of a
+/// deflation) with a reference of the caller's own.
+PC wrap_preconditioner(KSP ksp, void* context, const char* name, PetscErrorCode (*setup)(PC),
+                       PetscErrorCode (*apply)(PC, Vec, Vec));
+/// The set-up of a wrapped preconditioner: the inner M gets the shell's
+/// operators and is built now, then kept (reused) until the next set-up.
+PetscErrorCode set_up_inner_preconditioner(PC shell, PC inner);
+
 class ParticleDeflation {
  public:
   /// Wraps the KSP's current preconditioner (kept as the inner M) in a shell

@@ -152,6 +152,18 @@ SolverOptions read_solver_options(MPI_Comm comm) {
         "copied to float at every preconditioner build and applied by our own code: about "
         "half the bytes per cycle; CG, its operator and its residual stay in double)",
         {{"double", false}, {"single", true}}, o.single_cycle);
+    o.ritz_deflation = static_cast<int>(g.integer(
+        "-solver_ritz_deflation", "Deflate up to this many slow Ritz vectors of the "
+        "multigrid-preconditioned K around the preconditioner (A-DEF2), learnt from the "
+        "Lanczos vectors of the solves themselves (docs/model/fracture.md); 0: none",
+        o.ritz_deflation, 0, 64));
+    for (const double s : g.positive_reals("-solver_spectrum_solves", "Diagnostic: at these "
+             "solves (counted from 1), run one more preconditioned CG that keeps its Lanczos "
+             "vectors and write the Ritz values of the preconditioned operator, the residual "
+             "history and the 8 slowest Ritz vectors (docs/guide/running.md)", {}, true))
+      o.spectrum_solves.push_back(static_cast<std::int64_t>(s));
+    o.spectrum_prefix = g.string("-solver_spectrum_prefix", "Diagnostic: path prefix of the "
+                                 "files of -solver_spectrum_solves", o.spectrum_prefix);
   }
   OptionGroup g(comm, "Linear solver (defaults set on PETSc's objects; any -ksp_*, -pc_*, "
                       "-mg_* or -mat_* option overrides them)");

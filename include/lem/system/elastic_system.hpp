@@ -15,8 +15,10 @@
 
 #include <petscksp.h>
 
+#include <cstdint>
 #include <functional>
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace lem {
@@ -24,6 +26,7 @@ namespace lem {
 class ParticleDeflation;
 class BondOperator;
 class SingleCycle;
+class RitzDeflation;
 
 /// The operator CG applies: the assembled matrix K, or K applied bond by bond
 /// (the preconditioner is built from the assembled K either way).
@@ -82,6 +85,14 @@ struct SolverOptions {
   /// -solver_cycle_precision single: the multigrid cycle in float
   /// (lem/system/single_cycle.hpp); CG stays in double.
   bool single_cycle = false;
+  /// -solver_ritz_deflation: most columns of the Ritz-vector deflation
+  /// space (0: none).
+  int ritz_deflation = 0;
+  /// -solver_spectrum_solves / -solver_spectrum_prefix: the solves (counted
+  /// from 1 by the process) at which the spectrum probe runs, and where it
+  /// writes (a diagnostic; src/system/spectrum_probe.hpp).
+  std::vector<std::int64_t> spectrum_solves;
+  std::string spectrum_prefix = "spectrum";
 };
 /// Read -lattice_ground_stiffness and record the solver defaults (CG +
 /// GAMG, ...) in the option registry, so that -help and the provenance show
@@ -211,6 +222,7 @@ class ElasticSystem {
   ConvergenceTest* convergence_ = nullptr;  // owned by ksp_ (destroyed with it)
   KspHandle fallback_ksp_;  // CG + Jacobi, for solves the multigrid fails
   std::unique_ptr<ParticleDeflation> deflation_;  // -solver_particle_deflation
+  std::unique_ptr<RitzDeflation> ritz_;  // -solver_ritz_deflation
   std::unique_ptr<BondOperator> bonds_;  // -solver_operator bonds
   std::unique_ptr<SingleCycle> single_cycle_;  // -solver_cycle_precision single
   double diagonal_scale_ = 1.0;
@@ -223,6 +235,8 @@ class ElasticSystem {
   bool pc_ready_ = false;  // a preconditioner has been built
   bool tighter_solve_ = false;  // in solve_to: -log_view stage "Solve, tighter rtol"
   std::int64_t solves_ = 0;  // by this process (test hook LEM_FAULT_SOLVE_FAIL)
+  std::vector<std::int64_t> spectrum_solves_;  // -solver_spectrum_solves
+  std::string spectrum_prefix_;
 };
 
 }  // namespace lem

@@ -1,0 +1,78 @@
+// Deflation of slow Ritz vectors of the preconditioned operator, gathered
+// from the solves themselves (-solver_ritz_deflation).
+//
+// The spectrum probe (-solver_spectrum_solves) of a damaged sample shows the
+// slow modes of the multigrid-preconditioned K (docs/notes/slow-modes.md): a
+// handful of Ritz values 10-1000 times below the bulk, carried by large
+// parts of the sample moving nearly rigidly against each other and, after
+// the peak, by small clusters of a few nodes held by soft bonds.  They change
+// little from one solve to the next, so they are learnt as the run goes
+// (in the spirit of eigCG, Stathopoulos & Orginos, SISC 32, 2010): during
+// every CG solve the shell records the preconditioned residuals z_k and the
+// step lengths (read from the iterate, which CG updates in place), which
+// give the Lanczos vectors and tridiagonal of that solve; after it, its Ritz
+// vectors with values below 0.1 join the columns of W (the oldest leave
+// beyond `count`).  With Q = W (W^T K W)^-1 W^T and M the multigrid the
+// preconditioner is (I - Q K) M^-1 + Q and every solve starts from
+// u + Q (b - K u) (the A-DEF2 form, as the per-particle deflation).  K W is
+// kept, so an iteration costs a few vector operations but no extra product
+// with K; K W and W^T K W are formed again (count products) when K changes.
+#pragma once
+
+#include "lem/base/petsc_handle.hpp"
+
+#include <petscksp.h>
+
+#include <vector>
+
+namespace lem {
+
+class RitzDeflation {
+ public:
+  /// Wraps the KSP's current preconditioner (kept as the inner M) in a shell
+  /// that applies the deflated one.  `K` is the assembled matrix.
+  RitzDeflation(Mat K, KSP ksp, int count);
+  ~RitzDeflation();
+  RitzDeflation(const RitzDeflation&) = delete;
+  RitzDeflation& operator=(const RitzDeflation&) = delete;
+
+  /// K changed (values or constraints): K W and W^T K W are formed again
+  /// before the next solve.
+  void operator_changed() { coarse_stale_ = true; }
+  /// Before KSPSolve on (b, u), after the preconditioner is set up: bring
+  /// the coarse operator up to date, move u by Q (b - K u) and start
+  /// recording the solve (u must be the KSP's solution vector).
+  void prepare(Vec b, Vec u);
+  /// After KSPSolve: the Ritz vectors of the recorded solve join W.
+  void learn();
+  /// Columns of W.
+  int size() const { return static_cast<int>(W_.size()); }
+
+ private:
+  static PetscErrorCode shell_setup(PC pc);
+  static PetscErrorCode shell_apply(PC pc, Vec r, Vec z);
+  void record(Vec r, Vec z);
+  void form_coarse();
+  void coarse_solve(std::vector<PetscScalar>& t) const;  // t = E^-1 t
+
+  Mat K_;
+  PC inner_ = nullptr;  // a reference of our own
+  int count_;
+  std::vector<VecHandle> W_, KW_;
+  std::vector<Vec> w_, kw_;  // the same, for PETSc's multi-vector calls
+  std::vector<double> factor_;  // lower Cholesky factor of E = W^T K W
+  VecHandle work_;
+  mutable std::vector<PetscScalar> t_, s_;
+  bool coarse_stale_ = true;
+
+  // The recording of one solve.
+  bool recording_ = false;
+  Vec x_ = nullptr;  // CG's iterate (the solution vector)
+  Vec rhs_ = nullptr;
+  VecHandle x_last_, p_;
+  std::vector<VecHandle> lanczos_;  // z_k / sqrt(rho_k)
+  std::vector<double> alpha_, beta_;
+  double rho_last_ = 0;
+};
+
+}  // namespace lem
