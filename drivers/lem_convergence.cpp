@@ -53,8 +53,9 @@ int main(int argc, char** argv) {
       request = lem::ResultFolder::read_request(g, "results/convergence");
     }
     for (double ln : densities)
-      if (ln > 0.2) throw lem::InputError("option -convergence_Ln: L_n = " + std::to_string(ln) +
-                                          " is too coarse (allowed: <= 0.2)");
+      if (ln > 0.2)
+        throw lem::InputError("option -convergence_Ln: L_n = " + std::to_string(ln) +
+                              " is too coarse (allowed: <= 0.2)");
     const lem::SolverOptions solver = lem::read_solver_options(comm);
     lem::check_option_names(comm);
     if (sample.lattice_type != lem::LatticeType::random)

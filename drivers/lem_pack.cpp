@@ -40,19 +40,23 @@ int main(int argc, char** argv) {
                          50'000'000);
       if (spec.count == 0) spec.count = lem::auto_packing_count(sample);
       cut = g.choice<lem::CubeCut>(
-          "-pack_cut", "Spheres of the cube: centres inside it, or also those reaching in from "
-          "outside", {{"centres", lem::CubeCut::centres_inside}, {"reaching", lem::CubeCut::reaching_in}},
+          "-pack_cut",
+          "Spheres of the cube: centres inside it, or also those reaching in from "
+          "outside",
+          {{"centres", lem::CubeCut::centres_inside}, {"reaching", lem::CubeCut::reaching_in}},
           lem::CubeCut::centres_inside);
-      write_box = g.flag("-pack_write_box", "Also write the whole periodic packing "
-                         "(packing_box.csv)", false);
+      write_box = g.flag("-pack_write_box",
+                         "Also write the whole periodic packing "
+                         "(packing_box.csv)",
+                         false);
       request = lem::ResultFolder::read_request(g, "results/packing");
     }
     lem::check_option_names(comm);
     lem::validate(spec);
     if (sample > spec.count)
-      throw lem::InputError("option -pack_sample_particles = " + std::to_string(sample) +
-                            " is out of range: allowed 1 to -pack_particles = " +
-                            std::to_string(spec.count));
+      throw lem::InputError(
+          "option -pack_sample_particles = " + std::to_string(sample) +
+          " is out of range: allowed 1 to -pack_particles = " + std::to_string(spec.count));
     const auto provenance = lem::collect_provenance(comm, "lem_pack");
     request.fingerprint = lem::options_fingerprint(comm);
     const lem::ResultFolder folder(comm, lem::packing_layout(), request);
@@ -66,8 +70,8 @@ int main(int argc, char** argv) {
         lem::say("attempt %3d  rho_p %.6f  %-8s  step %.1e  overlap mean %.2e max %.2e  "
                  "relaxation %7lld steps  %8.2f s\n",
                  a.attempt, a.volume_fraction,
-                 a.jammed ? (a.settled ? "jammed" : "jammed*") : "free", a.step,
-                 a.mean_overlap, a.max_overlap, (long long)a.relaxation_steps, a.seconds);
+                 a.jammed ? (a.settled ? "jammed" : "jammed*") : "free", a.step, a.mean_overlap,
+                 a.max_overlap, (long long)a.relaxation_steps, a.seconds);
       });
       const auto& st = packing.stats;
       lem::say("box: side %.6g, %lld spheres, rho_p %.6f, %d attempts (%d stopped by the step "
@@ -85,12 +89,12 @@ int main(int argc, char** argv) {
       const auto cube = lem::cut_cube(packing, sample, cut);
       lem::say("cube: side %.6g, %lld centres inside, %zu spheres, rho_p %.6f (counting every "
                "sphere reaching in %.6f)\n",
-               cube.side, (long long)cube.centres_inside, cube.spheres.size(),
-               cube.volume_fraction, cube.region_volume_fraction);
+               cube.side, (long long)cube.centres_inside, cube.spheres.size(), cube.volume_fraction,
+               cube.region_volume_fraction);
       lem::write_text_file_atomically(dir + "/packing.csv", lem::spheres_csv(cube));
-      lem::write_text_file_atomically(
-          dir + "/packing.json",
-          lem::spheres_json(cube, packing, spec, provenance, "cubic sample", "packing.csv"));
+      lem::write_text_file_atomically(dir + "/packing.json",
+                                      lem::spheres_json(cube, packing, spec, provenance,
+                                                        "cubic sample", "packing.csv"));
       if (write_box) {
         lem::CubeSample whole;
         whole.side = packing.box_side;
@@ -98,9 +102,9 @@ int main(int argc, char** argv) {
         whole.centres_inside = static_cast<std::int64_t>(whole.spheres.size());
         whole.volume_fraction = whole.region_volume_fraction = st.volume_fraction;
         lem::write_text_file_atomically(dir + "/packing_box.csv", lem::spheres_csv(whole));
-        lem::write_text_file_atomically(
-            dir + "/packing_box.json",
-            lem::spheres_json(whole, packing, spec, provenance, "periodic box", "packing_box.csv"));
+        lem::write_text_file_atomically(dir + "/packing_box.json",
+                                        lem::spheres_json(whole, packing, spec, provenance,
+                                                          "periodic box", "packing_box.csv"));
       }
     });
     folder.commit(lem::Summary{}, {});

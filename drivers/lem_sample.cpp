@@ -39,13 +39,16 @@ int main(int argc, char** argv) {
     {
       lem::OptionGroup g(comm, "Output");
       dir = g.string("-output_dir", "Directory of the results", "results/sample");
-      stem = g.string("-output_stem", "Name of the sample files in -output_dir (<stem>.h5, "
+      stem = g.string("-output_stem",
+                      "Name of the sample files in -output_dir (<stem>.h5, "
                       "<stem>.xmf; summaries summary.json/.csv for the default, else "
-                      "<stem>_summary.json/.csv)", "sample");
+                      "<stem>_summary.json/.csv)",
+                      "sample");
     }
     lem::check_option_names(comm);
     if (stem.empty() || stem.find('/') != std::string::npos)
-      throw lem::InputError("option -output_stem = '" + stem + "' must be a plain file name "
+      throw lem::InputError("option -output_stem = '" + stem +
+                            "' must be a plain file name "
                             "(no '/'; the directory is -output_dir)");
     const std::string summary_stem = stem == "sample" ? "summary" : stem + "_summary";
     lem::validate(spec.packing);
@@ -59,9 +62,10 @@ int main(int argc, char** argv) {
              spec.bridges.matrix_fraction);
     const std::string path = dir + "/" + stem;
     const auto prepare = [&] {  // only once the sample is made: a failure keeps older results
-      lem::prepare_output_dir(comm, dir, {stem + ".h5", stem + ".xmf", stem + "_nodes.xmf",
-                                          stem + "_particles.xmf", summary_stem + ".json",
-                                          summary_stem + ".csv"});
+      lem::prepare_output_dir(comm, dir,
+                              {stem + ".h5", stem + ".xmf", stem + "_nodes.xmf",
+                               stem + "_particles.xmf", summary_stem + ".json",
+                               summary_stem + ".csv"});
     };
     lem::CementedSampleStats stats;
     if (spec.generator == lem::LatticeGenerator::cells) {
@@ -91,7 +95,7 @@ int main(int argc, char** argv) {
       summary.add_provenance(provenance);
       summary.write(dir + "/" + summary_stem);
     });
-    lem::say("results in %s/: %s.h5, %s.xmf (ParaView), %s.json/.csv\n", dir.c_str(),
-             stem.c_str(), stem.c_str(), summary_stem.c_str());
+    lem::say("results in %s/: %s.h5, %s.xmf (ParaView), %s.json/.csv\n", dir.c_str(), stem.c_str(),
+             stem.c_str(), summary_stem.c_str());
   });
 }

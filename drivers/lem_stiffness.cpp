@@ -24,7 +24,8 @@ int main(int argc, char** argv) {
     study.table = lem::read_phase_table(comm);
     {
       lem::OptionGroup g(comm, "Stiffness against matrix fraction");
-      study.fractions = g.positive_reals("-stiffness_fractions", "Matrix fractions rho^m to run "
+      study.fractions = g.positive_reals("-stiffness_fractions",
+                                         "Matrix fractions rho^m to run "
                                          "(the paper's eight by default; -matrix_fraction has "
                                          "no use here and is refused)",
                                          {0.06, 0.1, 0.13, 0.17, 0.2, 0.22, 0.24, 0.28}, true);
@@ -40,7 +41,8 @@ int main(int argc, char** argv) {
                               " is out of range (allowed: (0, 0.36], the pore space of a "
                               "dense packing)");
     if (study.fractions.size() < 2)
-      throw lem::InputError("option -stiffness_fractions: give at least two fractions for the fits");
+      throw lem::InputError(
+          "option -stiffness_fractions: give at least two fractions for the fits");
     if (study.spec.generator != lem::LatticeGenerator::serial)
       throw lem::InputError("option -lattice_generator cells: lem_stiffness builds its samples "
                             "on one rank, with -lattice_generator serial only");

@@ -25,8 +25,10 @@ int main(int argc, char** argv) {
     bool fields = true;
     {
       lem::OptionGroup g(comm, "Loading and output");
-      delta = g.real("-load_displacement", "Top displacement Delta in units of the mean bond "
-                     "length a", 3e-4, 0.0, 0.1, true);
+      delta = g.real("-load_displacement",
+                     "Top displacement Delta in units of the mean bond "
+                     "length a",
+                     3e-4, 0.0, 0.1, true);
       request = lem::ResultFolder::read_request(g, "results/tension");
       fields = g.flag("-output_fields", "Write nodes and bonds to HDF5/XDMF", true);
     }
@@ -78,8 +80,9 @@ int main(int argc, char** argv) {
     summary.add("peak_memory_mb", memory.max_mb, "MB");
     summary.add("peak_memory_mean_mb", memory.mean_mb, "MB");
     lem::say("solve: %d CG iterations, PC setup %.2f s, solve %.2f s; peak memory per rank "
-             "%.0f MB (largest), %.0f MB (mean)\n", solve.iterations, solve.setup_seconds,
-             solve.solve_seconds, memory.max_mb, memory.mean_mb);
+             "%.0f MB (largest), %.0f MB (mean)\n",
+             solve.iterations, solve.setup_seconds, solve.solve_seconds, memory.max_mb,
+             memory.mean_mb);
     if (from_file)
       lem::say("E_eff = %.6g (units of E^phase) = %.6g E^p   (affine estimate %.6g E^p)\n",
                response.young_modulus / unit, response.young_modulus / unit / e_p,

@@ -15,8 +15,8 @@
 
 namespace lem {
 
-int run_driver(int argc, char** argv, const char* help,
-               const std::function<void(MPI_Comm)>& body, StopHandling stops) {
+int run_driver(int argc, char** argv, const char* help, const std::function<void(MPI_Comm)>& body,
+               StopHandling stops) {
   // -version answers and runs nothing (PETSc's own -version would print
   // only PETSc's and go on with the job).
   if (version_requested(argc, argv)) {
@@ -55,7 +55,7 @@ int run_driver(int argc, char** argv, const char* help,
       if (handle_stops)
         if (const int signal = stop_requested(PETSC_COMM_WORLD, "driver_end"))
           throw Interrupted(signal_name(signal) + " came after the work was complete: nothing "
-                            "to resume");
+                                                  "to resume");
     } catch (const HelpShown& e) {
       if (rank == 0) std::printf("\n%s\n", e.what());
     } catch (const std::exception& e) {
@@ -72,8 +72,10 @@ int run_driver(int argc, char** argv, const char* help,
     install_stop_handler();  // PETSc may have restored the default actions
     // Past the last collective: this rank alone reports it.
     if (status == 0 && stop_signal_received() != 0) {
-      std::fprintf(stderr, "interrupted: %s came while the run was ending; its work is "
-                   "complete\n", signal_name(stop_signal_received()).c_str());
+      std::fprintf(stderr,
+                   "interrupted: %s came while the run was ending; its work is "
+                   "complete\n",
+                   signal_name(stop_signal_received()).c_str());
       status = 4;
     }
   }

@@ -57,8 +57,8 @@ PetscFailure::PetscFailure(const char* call, PetscErrorCode code)
                          taken_petsc_message()) {}
 
 void take_over_petsc_errors() {
-  for (const char* name : {"-on_error_abort", "-on_error_attach_debugger", "-on_error_emacs",
-                           "-start_in_debugger"}) {
+  for (const char* name :
+       {"-on_error_abort", "-on_error_attach_debugger", "-on_error_emacs", "-start_in_debugger"}) {
     PetscBool set = PETSC_FALSE;
     if (PetscOptionsHasName(nullptr, nullptr, name, &set) == 0 && set) return;
   }
@@ -95,15 +95,24 @@ ErrorType classify(const std::exception& error) {
 
 [[noreturn]] void throw_as(ErrorType type, const std::string& message) {
   switch (type) {
-    case ErrorType::input: throw InputError(message);
-    case ErrorType::io: throw IoError(message);
-    case ErrorType::numerical: throw NumericalError(message);
-    case ErrorType::interrupted: throw Interrupted(message);
-    case ErrorType::help: throw HelpShown(message);
-    case ErrorType::petsc: throw PetscFailure(message);
-    case ErrorType::invalid_argument: throw std::invalid_argument(message);
-    case ErrorType::logic: throw std::logic_error(message);
-    case ErrorType::other: break;
+    case ErrorType::input:
+      throw InputError(message);
+    case ErrorType::io:
+      throw IoError(message);
+    case ErrorType::numerical:
+      throw NumericalError(message);
+    case ErrorType::interrupted:
+      throw Interrupted(message);
+    case ErrorType::help:
+      throw HelpShown(message);
+    case ErrorType::petsc:
+      throw PetscFailure(message);
+    case ErrorType::invalid_argument:
+      throw std::invalid_argument(message);
+    case ErrorType::logic:
+      throw std::logic_error(message);
+    case ErrorType::other:
+      break;
   }
   throw std::runtime_error(message);
 }
@@ -112,11 +121,16 @@ ErrorType classify(const std::exception& error) {
 
 int exit_status(const std::exception& error) {
   switch (classify(error)) {
-    case ErrorType::help: return 0;
-    case ErrorType::input: return 1;
-    case ErrorType::numerical: return 2;
-    case ErrorType::interrupted: return 4;
-    default: return 3;
+    case ErrorType::help:
+      return 0;
+    case ErrorType::input:
+      return 1;
+    case ErrorType::numerical:
+      return 2;
+    case ErrorType::interrupted:
+      return 4;
+    default:
+      return 3;
   }
 }
 
@@ -170,10 +184,14 @@ void run_on_root(MPI_Comm comm, const std::function<void()>& work) {
 
 const char* status_label(int status) {
   switch (status) {
-    case 1: return "error";
-    case 2: return "numerical failure";
-    case 4: return "interrupted";
-    default: return "failure";
+    case 1:
+      return "error";
+    case 2:
+      return "numerical failure";
+    case 4:
+      return "interrupted";
+    default:
+      return "failure";
   }
 }
 

@@ -53,7 +53,8 @@ void create_output_dir(const std::string& dir) {
   const auto link = fs::symlink_status(dir, ec);
   if (fs::is_symlink(link) && !fs::exists(fs::status(dir, ec)))
     throw InputError("output directory '" + dir + "' is a dangling symbolic link (to '" +
-                     fs::read_symlink(dir, ec).string() + "', which does not exist): create "
+                     fs::read_symlink(dir, ec).string() +
+                     "', which does not exist): create "
                      "the folder it points to, or choose another -output_dir");
   fs::create_directories(dir, ec);
   if (ec || !fs::is_directory(dir))
@@ -122,8 +123,7 @@ void move_into_place(const std::string& from, const std::string& to) {
 }
 
 void sync_directory(const std::string& dir) {
-  if (!sync_path(dir, true))
-    throw IoError("cannot sync directory '" + dir + "': " + last_error());
+  if (!sync_path(dir, true)) throw IoError("cannot sync directory '" + dir + "': " + last_error());
 }
 
 void prepare_output_dir(MPI_Comm comm, const std::string& dir,
@@ -154,14 +154,18 @@ OutputLock::OutputLock(MPI_Comm comm, const std::string& dir) {
         ::close(fd_);
         fd_ = -1;
         if (saved == EWOULDBLOCK)
-          throw InputError("output directory '" + dir + "' is in use by another run (it holds "
-                           "the lock on '" + path + "'); wait for it to end or choose another "
+          throw InputError("output directory '" + dir +
+                           "' is in use by another run (it holds "
+                           "the lock on '" +
+                           path +
+                           "'); wait for it to end or choose another "
                            "-output_dir");
         errno = saved;
-        throw InputError("output directory '" + dir + "': cannot lock '" + path + "': " +
-                         last_error());
+        throw InputError("output directory '" + dir + "': cannot lock '" + path +
+                         "': " + last_error());
       }
-      struct stat held {}, now {};
+      struct stat held {
+      }, now{};
       if (::fstat(fd_, &held) == 0 && ::stat(path.c_str(), &now) == 0 &&
           held.st_dev == now.st_dev && held.st_ino == now.st_ino)
         return;
@@ -251,7 +255,8 @@ bool has_manifest(const std::string& dir) {
 std::optional<Manifest> read_manifest(const std::string& dir) {
   const std::string path = dir + "/" + kManifestName;
   if (const std::string what = not_a_regular_file(path); !what.empty())
-    throw InputError("the manifest '" + path + "' is " + what + ", not a file lem wrote; "
+    throw InputError("the manifest '" + path + "' is " + what +
+                     ", not a file lem wrote; "
                      "remove it, or choose another -output_dir");
   std::ifstream in(path);
   if (!in) {
@@ -288,7 +293,8 @@ std::optional<Manifest> read_manifest(const std::string& dir) {
   // Written atomically, so a manifest without its last line was not written
   // by lem: refuse it rather than guess.
   if (!end || m.program.empty())
-    throw InputError("the manifest '" + path + "' is damaged (no program or no end line); "
+    throw InputError("the manifest '" + path +
+                     "' is damaged (no program or no end line); "
                      "remove it, or pass -output_overwrite to compute the result again");
   return m;
 }
@@ -385,8 +391,8 @@ std::vector<std::string> entries_of(const std::string& dir) {
 
 void rename_or_throw(const std::string& from, const std::string& to, const std::string& what) {
   if (std::rename(from.c_str(), to.c_str()) != 0)
-    throw IoError("cannot " + what + ": renaming '" + from + "' to '" + to + "' failed: " +
-                  last_error());
+    throw IoError("cannot " + what + ": renaming '" + from + "' to '" + to +
+                  "' failed: " + last_error());
 }
 
 // The replaced folder `old`: its entries that are not the result's go into
@@ -434,15 +440,19 @@ void check_replaceable(const std::string& dir) {
   const std::string d = trimmed(dir);
   const std::string name = fs::path(d).filename().string();
   const auto refuse = [&](const std::string& why) {
-    throw InputError("-output_overwrite: the result in '" + dir + "' cannot be replaced by a "
-                     "rename (" + why + "); remove its manifest.txt to compute it again in "
+    throw InputError("-output_overwrite: the result in '" + dir +
+                     "' cannot be replaced by a "
+                     "rename (" +
+                     why +
+                     "); remove its manifest.txt to compute it again in "
                      "place, or choose another -output_dir");
   };
   if (name.empty() || name == "." || name == "..") refuse("name the folder itself");
   std::error_code ec;
   if (fs::is_symlink(fs::symlink_status(d, ec)))
     refuse("it is a symbolic link: pass the folder it points to");
-  struct stat self {}, parent {};
+  struct stat self {
+  }, parent{};
   if (::stat(d.c_str(), &self) != 0 || ::stat(directory_of(d).c_str(), &parent) != 0)
     throw IoError("cannot read '" + d + "' or its parent: " + last_error());
   if (self.st_dev != parent.st_dev) refuse("it is a mount point");
@@ -468,8 +478,8 @@ std::string finish_replacement(const std::string& dir, const ResultNames& own) {
   }
   if (fs::is_directory(d + "/" + kAsideName)) {
     discard_replaced(d + "/" + kAsideName, d, own);
-    done += std::string(done.empty() ? "" : "; ") + "removed the result it replaced (" + d +
-            "/" + kAsideName + ")";
+    done += std::string(done.empty() ? "" : "; ") + "removed the result it replaced (" + d + "/" +
+            kAsideName + ")";
   }
   if (ours && entry_exists(staging + "/" + kSupersededName)) {
     discard_replaced(staging, d, own);
@@ -481,13 +491,16 @@ std::string finish_replacement(const std::string& dir, const ResultNames& own) {
 
 bool prepare_staging(const std::string& dir) {
   const std::string d = trimmed(dir), staging = staging_dir(dir);
-  struct stat a {}, b {};
+  struct stat a {
+  }, b{};
   if (::stat(d.c_str(), &a) != 0 || ::stat(staging.c_str(), &b) != 0)
     throw IoError("cannot read '" + d + "' or '" + staging + "': " + last_error());
   if (a.st_dev != b.st_dev)
     throw InputError("-output_overwrite: '" + staging + "' is not on the filesystem of '" + d +
                      "', so the new result computed there could not take the old one's place "
-                     "by a rename; remove it (or " + d + "/manifest.txt to compute the result "
+                     "by a rename; remove it (or " +
+                     d +
+                     "/manifest.txt to compute the result "
                      "again in place)");
   if (!entry_exists(staging + "/" + kStampName))
     write_text_file_atomically(staging + "/" + kStampName,
@@ -499,8 +512,7 @@ bool prepare_staging(const std::string& dir) {
   std::error_code ec;
   for (const auto& p : {a_dir, b_dir}) {
     fs::remove_all(p, ec);
-    if (!fs::create_directory(p, ec))
-      throw IoError("cannot create '" + p + "': " + ec.message());
+    if (!fs::create_directory(p, ec)) throw IoError("cannot create '" + p + "': " + ec.message());
   }
   bool swapped = false;
   int why = 0;  // 0: the test hook says it cannot
@@ -537,8 +549,8 @@ void install_result(const std::string& dir, bool exchange, const ResultNames& ow
                                "the folder is removed\n");
     fault_point("before_exchange");
     if (::renameat2(AT_FDCWD, staging.c_str(), AT_FDCWD, d.c_str(), RENAME_EXCHANGE) != 0)
-      throw IoError("cannot put the new result in place: exchanging '" + staging + "' and '" +
-                    d + "' failed: " + last_error());
+      throw IoError("cannot put the new result in place: exchanging '" + staging + "' and '" + d +
+                    "' failed: " + last_error());
     sync_directory(parent);
     fault_point("after_exchange");
     discard_replaced(staging, d, own);

@@ -27,21 +27,43 @@ std::string lower(std::string s) {
 }
 
 // Options that say where and how a run is kept, not what it computes.
-const char* const kOutsideNames[] = {
-    "-output_dir", "-output_overwrite", "-output_write_grace", "-fracture_strict",
-    "-fracture_calibration_file", "-sample_parallel", "-sample_file", "-help", "-version", "-skip_petscrc",
-    "-options_file", "-options_file_yaml", "-no_signal_handler"};
-const char* const kOutsidePrefixes[] = {"-checkpoint_", "-fracture_warn_", "-log", "-info",
-                                        "-malloc", "-options_", "-on_error", "-history",
-                                        "-viewer", "-memory_view", "-fp_trap", "-debugger",
-                                        "-start_in_debugger", "-stop_for_debugger",
-                                        "-objects_dump", "-citations", "-display", "-nox"};
+const char* const kOutsideNames[] = {"-output_dir",
+                                     "-output_overwrite",
+                                     "-output_write_grace",
+                                     "-fracture_strict",
+                                     "-fracture_calibration_file",
+                                     "-sample_parallel",
+                                     "-sample_file",
+                                     "-help",
+                                     "-version",
+                                     "-skip_petscrc",
+                                     "-options_file",
+                                     "-options_file_yaml",
+                                     "-no_signal_handler"};
+const char* const kOutsidePrefixes[] = {"-checkpoint_",
+                                        "-fracture_warn_",
+                                        "-log",
+                                        "-info",
+                                        "-malloc",
+                                        "-options_",
+                                        "-on_error",
+                                        "-history",
+                                        "-viewer",
+                                        "-memory_view",
+                                        "-fp_trap",
+                                        "-debugger",
+                                        "-start_in_debugger",
+                                        "-stop_for_debugger",
+                                        "-objects_dump",
+                                        "-citations",
+                                        "-display",
+                                        "-nox"};
 // What PETSc prints while it solves, not what it solves.
-const char* const kOutsideParts[] = {"_monitor", "_view", "_converged_reason", "_draw",
-                                     "_plot_", "_log", "_error_if_not_converged"};
-const char* const kSolverPrefixes[] = {"-ksp_", "-pc_", "-mg_", "-mat_", "-fallback_",
-                                       "-patch_", "-sub_", "-redundant_", "-telescope_",
-                                       "-solver_"};
+const char* const kOutsideParts[] = {"_monitor", "_view", "_converged_reason",      "_draw",
+                                     "_plot_",   "_log",  "_error_if_not_converged"};
+const char* const kSolverPrefixes[] = {"-ksp_",       "-pc_",    "-mg_",  "-mat_",
+                                       "-fallback_",  "-patch_", "-sub_", "-redundant_",
+                                       "-telescope_", "-solver_"};
 
 // One written form per value: numbers in their shortest exact form, booleans as true/false (a
 // bare flag is true), so that "-ksp_rtol 1.0e-8" and the default 1e-8 agree.
@@ -72,7 +94,8 @@ std::map<std::string, std::string> petsc_database() {
   PetscFree(all);
   std::string name;
   for (std::string w; words >> w;) {
-    const bool option = w.size() > 1 && w[0] == '-' && std::isalpha(static_cast<unsigned char>(w[1]));
+    const bool option =
+        w.size() > 1 && w[0] == '-' && std::isalpha(static_cast<unsigned char>(w[1]));
     if (option) {
       name = lower(w);
       out[name] = "";

@@ -69,13 +69,48 @@ bool parse_real(const std::string& text, double& value) {
 
 // Prefixes of options that PETSc itself (or MPI start-up) may consume; they
 // are checked by check_unused_options(), once PETSc has read them.
-const char* const kPetscPrefixes[] = {
-    "ksp_", "pc_", "mat_", "vec_", "fallback_", "patch_", "log", "options_", "help", "malloc", "info", "on_error",
-    "history", "viewer", "fp_trap", "no_signal_handler", "check_pointer", "memory_view",
-    "objects_dump", "skip_petscrc", "start_in_debugger", "debugger", "stop_for_debugger",
-    "display", "use_gpu_aware_mpi", "citations", "version", "petsc", "sys", "draw", "nox",
-    "mg_", "sub_", "redundant_", "telescope_", "is_", "sf_", "error_output", "saws", "python",
-    "get_total_flops", "checkstack"};
+const char* const kPetscPrefixes[] = {"ksp_",
+                                      "pc_",
+                                      "mat_",
+                                      "vec_",
+                                      "fallback_",
+                                      "patch_",
+                                      "log",
+                                      "options_",
+                                      "help",
+                                      "malloc",
+                                      "info",
+                                      "on_error",
+                                      "history",
+                                      "viewer",
+                                      "fp_trap",
+                                      "no_signal_handler",
+                                      "check_pointer",
+                                      "memory_view",
+                                      "objects_dump",
+                                      "skip_petscrc",
+                                      "start_in_debugger",
+                                      "debugger",
+                                      "stop_for_debugger",
+                                      "display",
+                                      "use_gpu_aware_mpi",
+                                      "citations",
+                                      "version",
+                                      "petsc",
+                                      "sys",
+                                      "draw",
+                                      "nox",
+                                      "mg_",
+                                      "sub_",
+                                      "redundant_",
+                                      "telescope_",
+                                      "is_",
+                                      "sf_",
+                                      "error_output",
+                                      "saws",
+                                      "python",
+                                      "get_total_flops",
+                                      "checkstack"};
 
 // Options that the objects of ElasticSystem read when they are created
 // (KSPSetFromOptions, PCSetFromOptions, including -fallback_*): these can be
@@ -140,8 +175,8 @@ std::size_t edit_distance(const std::string& a, const std::string& b) {
   for (std::size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
   for (std::size_t i = 1; i <= a.size(); ++i)
     for (std::size_t j = 1; j <= b.size(); ++j) {
-      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1,
-                          d[i - 1][j - 1] + (a[i - 1] != b[j - 1])});
+      d[i][j] =
+          std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + (a[i - 1] != b[j - 1])});
       if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1])
         d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
     }
@@ -262,8 +297,8 @@ std::int64_t OptionGroup::integer(const char* name, const char* help, std::int64
   const bool set = lookup(name, text, help);
   record(name, help, std::to_string(def), text, set);
   if (!set) return def;
-  const std::string allowed = "allowed [" + std::to_string(lo) + ", " + std::to_string(hi) +
-                              "] (" + help + ")";
+  const std::string allowed =
+      "allowed [" + std::to_string(lo) + ", " + std::to_string(hi) + "] (" + help + ")";
   const std::string given = "option " + std::string(name) + " = ";
   // Plain integers first; failing that, a real with an integer value
   // ("1e6"), so that a huge value is out of range instead of wrapping.
@@ -280,8 +315,7 @@ std::int64_t OptionGroup::integer(const char* name, const char* help, std::int64
       throw InputError(given + text + " is out of range: " + allowed);
     value = static_cast<std::int64_t>(real);
   }
-  if (value < lo || value > hi)
-    throw InputError(given + text + " is out of range: " + allowed);
+  if (value < lo || value > hi) throw InputError(given + text + " is out of range: " + allowed);
   return value;
 }
 
@@ -296,8 +330,10 @@ bool OptionGroup::flag(const char* name, const char* help, bool def) {
     if (word == yes) return true;
   for (const char* no : {"false", "no", "off", "0"})
     if (word == no) return false;
-  throw InputError("option " + std::string(name) + " = '" + text + "' is not a boolean: allowed "
-                   "true or false (also yes/no, on/off, 1/0) (" + help + ")");
+  throw InputError("option " + std::string(name) + " = '" + text +
+                   "' is not a boolean: allowed "
+                   "true or false (also yes/no, on/off, 1/0) (" +
+                   help + ")");
 }
 
 std::string OptionGroup::string(const char* name, const char* help, const std::string& def) {
@@ -348,7 +384,8 @@ std::vector<double> OptionGroup::positive_reals(const char* name, const char* he
   const std::size_t n = values.size();
   if (any_count ? (n < 1 || n > 64) : n != def.size()) {
     std::ostringstream s;
-    s << "option " << name << " takes " << (any_count ? std::string("1 to 64") : std::to_string(def.size()))
+    s << "option " << name << " takes "
+      << (any_count ? std::string("1 to 64") : std::to_string(def.size()))
       << " comma-separated values, got " << n;
     throw InputError(s.str());
   }
@@ -392,8 +429,10 @@ void check_type_option(const char* name, PetscFunctionList types, const char* ki
       if (names[i]) known.emplace_back(names[i]);
     LEM_PETSC(PetscFree(names));
     const std::string* best = nearest(value, known);
-    throw InputError("option " + option + " = '" + value + "' is not a " + kind + " type known "
-                     "to PETSc" + (best ? " (did you mean " + *best + "?)" : std::string()));
+    throw InputError("option " + option + " = '" + value + "' is not a " + kind +
+                     " type known "
+                     "to PETSc" +
+                     (best ? " (did you mean " + *best + "?)" : std::string()));
   }
 }
 
@@ -414,7 +453,8 @@ void check_option_names(MPI_Comm comm) {
                                     [](const OptionRecord& r) { return r.petsc_default; });
     throw HelpShown(std::string("-help: these are the program's options") +
                     (solver ? "; the solver also takes PETSc's standard -ksp_*, -pc_* and "
-                              "-mat_* options (docs/reference/options.md)" : "") +
+                              "-mat_* options (docs/reference/options.md)"
+                            : "") +
                     ". Nothing was run.");
   }
 }
@@ -475,7 +515,8 @@ void check_bare_petsc_options(const std::function<void()>& read) {
     const std::string quoted = std::string(" ") + probe + " ";
     if (failure.find("Input string" + quoted + "has no") != std::string::npos ||
         failure.find("Unknown option" + quoted + "for") != std::string::npos)
-      throw InputError("option " + option + " is given without a value (PETSc reads a number "
+      throw InputError("option " + option +
+                       " is given without a value (PETSc reads a number "
                        "or a word there, and would ignore it)");
   }
 }
@@ -498,7 +539,8 @@ void check_unused_options(SolverStage stage) {
   LEM_PETSC(PetscOptionsLeftRestore(nullptr, &n, &names, &values));
   if (!unknown.empty())
     throw InputError("option(s) given but never used (misspelt, or not valid for the chosen "
-                     "solver):" + unknown);
+                     "solver):" +
+                     unknown);
 }
 
 std::string options_as_text() {
@@ -514,7 +556,8 @@ std::string options_as_text() {
     const bool in_database = std::any_of(present.begin(), present.end(), [&](const std::string& n) {
       return lower(n) == lower(r.name);
     });
-    if (!in_database) text += " " + r.name + " " + (r.default_value.empty() ? "\"\"" : r.default_value);
+    if (!in_database)
+      text += " " + r.name + " " + (r.default_value.empty() ? "\"\"" : r.default_value);
   }
   return text;
 }

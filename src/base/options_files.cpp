@@ -62,7 +62,7 @@ std::string unusable_options_file(const std::string& path) {
   if (what == "a directory") return "a directory, not a file";
   if (!what.empty())
     return what + ", not a regular file: options files are read twice (checked, then by "
-           "PETSc), so write the options to a file, or give them on the command line";
+                  "PETSc), so write the options to a file, or give them on the command line";
   std::error_code ec;
   const auto bytes = std::filesystem::file_size(path, ec);
   if (!ec && static_cast<long long>(bytes) > kOptionsFileBytes)
@@ -96,8 +96,8 @@ std::string options_file_problem(const std::vector<std::string>& words, const st
     std::string trail;
     for (const auto& f : chain) trail += f.second + " -> ";
     trail += path;
-    const bool loop = std::any_of(chain.begin(), chain.end(),
-                                  [&](const auto& f) { return f.first == key; });
+    const bool loop =
+        std::any_of(chain.begin(), chain.end(), [&](const auto& f) { return f.first == key; });
     if (loop || static_cast<int>(chain.size()) >= kOptionsFileDepth) {
       std::fclose(file);
       return "option -options_file = '" + path + "'" + where + ": " +
@@ -139,8 +139,8 @@ std::string unreadable_options_file(int argc, char** argv) {
     if (!std::filesystem::exists(path, ec)) continue;
     const std::string refused = unusable_options_file(path);
     if (!refused.empty())
-      problem = "PETSc's default options file '" + path + "' (read unless -skip_petscrc): " +
-                refused;
+      problem =
+          "PETSc's default options file '" + path + "' (read unless -skip_petscrc): " + refused;
   }
   return problem;
 }

@@ -46,10 +46,13 @@ std::string options_one_per_line(const std::string& all) {
   std::string out;
   bool line_open = false;
   while (in >> token) {
-    const bool is_name = token.size() > 1 && token[0] == '-' &&
-                         (std::isalpha(static_cast<unsigned char>(token[1])) != 0 || token[1] == '_');
-    if (is_name && line_open) out += '\n';
-    else if (line_open) out += ' ';
+    const bool is_name =
+        token.size() > 1 && token[0] == '-' &&
+        (std::isalpha(static_cast<unsigned char>(token[1])) != 0 || token[1] == '_');
+    if (is_name && line_open)
+      out += '\n';
+    else if (line_open)
+      out += ' ';
     out += token;
     line_open = true;
   }

@@ -7,7 +7,8 @@
 
 namespace lem {
 
-std::vector<std::uint64_t> exchange_counts(MPI_Comm comm, const std::vector<std::uint64_t>& counts) {
+std::vector<std::uint64_t> exchange_counts(MPI_Comm comm,
+                                           const std::vector<std::uint64_t>& counts) {
   int ranks = 1;
   MPI_Comm_size(comm, &ranks);
   std::vector<std::uint64_t> received(ranks, 0);
@@ -27,8 +28,9 @@ void move_bytes(MPI_Comm comm, const char* send, const std::vector<std::uint64_t
   }
   // Each round moves at most `pair` bytes between any two ranks, so that a
   // rank's total per round (its counts and displacements) stays an int.
-  const std::uint64_t pair = std::max<std::uint64_t>(
-      1, std::min<std::uint64_t>(round_bytes, INT_MAX) / static_cast<std::uint64_t>(ranks));
+  const std::uint64_t pair =
+      std::max<std::uint64_t>(1, std::min<std::uint64_t>(round_bytes, INT_MAX) /
+                                     static_cast<std::uint64_t>(ranks));
   std::uint64_t largest = 0, rounds = 0;
   for (int r = 0; r < ranks; ++r) largest = std::max({largest, counts[r], received[r]});
   const std::uint64_t mine = (largest + pair - 1) / pair;

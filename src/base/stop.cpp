@@ -24,8 +24,7 @@ int pause_pass(const char* point) {
   const char* wanted = std::getenv("LEM_FAULT_PAUSE");
   if (!wanted) return 0;
   const std::size_t length = std::strlen(point);
-  if (std::strncmp(wanted, point, length) != 0 ||
-      (wanted[length] != '\0' && wanted[length] != ':'))
+  if (std::strncmp(wanted, point, length) != 0 || (wanted[length] != '\0' && wanted[length] != ':'))
     return 0;
   const int at = wanted[length] == ':' ? std::atoi(wanted + length + 1) : 1;
   static std::map<std::string, int> passes;

@@ -63,8 +63,8 @@ double stream_triad_gbs(MPI_Comm comm, double mb) {
   for (int trial = 0; trial < 5; ++trial) {
     const double s = 0.5 + trial;
     best = std::min(best, timed(comm, [&] {
-      for (std::size_t i = 0; i < n; ++i) a[i] = b[i] + s * c[i];
-    }));
+                      for (std::size_t i = 0; i < n; ++i) a[i] = b[i] + s * c[i];
+                    }));
   }
   if (a[n / 2] != 1.0 + 4.5 * 2.0) throw std::logic_error("STREAM triad: wrong result");
   int size = 1;
@@ -107,7 +107,7 @@ void print_levels(KSP ksp) {
     text += std::to_string(static_cast<long long>(info.nz_used));
   }
   say("multigrid: %d levels, rows/nnz fine to coarse:%s, operator complexity %.3f\n",
-           static_cast<int>(levels), text.c_str(), total / fine);
+      static_cast<int>(levels), text.c_str(), total / fine);
 }
 
 // Make `A` the operator of `ksp`'s CG and of the multigrid's finest level
@@ -178,18 +178,17 @@ void run_tension_benchmark(MPI_Comm comm, SampleOptions sample, const BenchOptio
   // curve inside its cell partition.
   const bool serial = !sample.parallel && sample.generator == LatticeGenerator::serial;
   const double t_setup = MPI_Wtime();
-  auto lattice = !serial
-                     ? setup_sample_lattice(comm, sample, setup)
-                     : setup_tension_lattice(
-                           comm, [&](SampleInfo& info) { return build_sample(sample, info); },
-                           setup, morton);
+  auto lattice = !serial ? setup_sample_lattice(comm, sample, setup)
+                         : setup_tension_lattice(
+                               comm, [&](SampleInfo& info) { return build_sample(sample, info); },
+                               setup, morton);
   const double seconds_setup = MPI_Wtime() - t_setup;
   const auto rss_setup = peak_memory_per_rank_mb(comm);
   const long long nodes = setup.sample.stats.nodes, nbonds = setup.sample.stats.bonds;
-  say("lattice: %lld nodes, %lld bonds (%lld active), %d ranks, %s, edge cut %lld\n",
-           nodes, nbonds, static_cast<long long>(setup.active_bonds), ranks,
-           serial ? (morton ? "Morton order" : "METIS order") : "set up in parallel (cells)",
-           static_cast<long long>(setup.edge_cut));
+  say("lattice: %lld nodes, %lld bonds (%lld active), %d ranks, %s, edge cut %lld\n", nodes, nbonds,
+      static_cast<long long>(setup.active_bonds), ranks,
+      serial ? (morton ? "Morton order" : "METIS order") : "set up in parallel (cells)",
+      static_cast<long long>(setup.edge_cut));
   // Load balance: the largest rank's share over the mean.
   const auto max_over_mean = [&](double mine) {
     double largest = 0, total = 0;
@@ -198,7 +197,7 @@ void run_tension_benchmark(MPI_Comm comm, SampleOptions sample, const BenchOptio
     return total > 0 ? largest * ranks / total : 1.0;
   };
   say("balance:  owned nodes max/mean %.3f, bonds held max/mean %.3f; set-up %.2f s\n",
-           max_over_mean(lattice.owned), max_over_mean(lattice.local_bonds()), seconds_setup);
+      max_over_mean(lattice.owned), max_over_mean(lattice.local_bonds()), seconds_setup);
 
   const double delta = 3e-4 * lattice.mean_bond_length;
   // The events of every multigrid level (the per-level accounting).
@@ -239,7 +238,10 @@ void run_tension_benchmark(MPI_Comm comm, SampleOptions sample, const BenchOptio
     asm_s.push_back(timed(comm, [&] { sys->assemble(); }));
     // KSPSetUp alone does not rebuild the PC after a change of matrix values
     // (KSPSolve would, inside the solve timing): call PCSetUp explicitly.
-    setup_s.push_back(timed(comm, [&] { LEM_PETSC(KSPSetUp(ksp)); LEM_PETSC(PCSetUp(pc)); }));
+    setup_s.push_back(timed(comm, [&] {
+      LEM_PETSC(KSPSetUp(ksp));
+      LEM_PETSC(PCSetUp(pc));
+    }));
     LEM_PETSC(VecZeroEntries(x));
     solve_s.push_back(timed(comm, [&] { LEM_PETSC(KSPSolve(ksp, b, x)); }));
     PetscInt n = 0;
@@ -252,9 +254,12 @@ void run_tension_benchmark(MPI_Comm comm, SampleOptions sample, const BenchOptio
 
   // One fine-level MatMult: time, bytes (values + column indices + row
   // starts + x read + y written; ghost exchange not counted).
-  const double t_mm = timed(comm, [&] {
-    for (std::int64_t k = 0; k < matmults; ++k) LEM_PETSC(MatMult(K, x, b));
-  }) / static_cast<double>(matmults);
+  const double t_mm = timed(comm,
+                            [&] {
+                              for (std::int64_t k = 0; k < matmults; ++k)
+                                LEM_PETSC(MatMult(K, x, b));
+                            }) /
+                      static_cast<double>(matmults);
   MatInfo info;
   PetscInt rows = 0, bs = 1;
   MatType type;
@@ -264,8 +269,9 @@ void run_tension_benchmark(MPI_Comm comm, SampleOptions sample, const BenchOptio
   LEM_PETSC(MatGetType(K, &type));
   const bool blocked = std::strstr(type, "baij") != nullptr;
   const double index_rows = blocked ? static_cast<double>(rows) / bs : static_cast<double>(rows);
-  const double mm_bytes = info.nz_used * (sizeof(PetscScalar) + sizeof(PetscInt) / (blocked ? bs * bs : 1.0)) +
-                          index_rows * sizeof(PetscInt) + 2.0 * rows * sizeof(PetscScalar);
+  const double mm_bytes =
+      info.nz_used * (sizeof(PetscScalar) + sizeof(PetscInt) / (blocked ? bs * bs : 1.0)) +
+      index_rows * sizeof(PetscInt) + 2.0 * rows * sizeof(PetscScalar);
   // The bond operator on the same x, and the same solve with each operator
   // in turn, both with the preconditioner of the last repeat (not rebuilt:
   // the preconditioner matrix is the same K).
@@ -283,9 +289,12 @@ void run_tension_benchmark(MPI_Comm comm, SampleOptions sample, const BenchOptio
     LEM_PETSC(VecNorm(y, NORM_INFINITY, &norm_d));
     bo_difference = norm_d / norm_b;
   }
-  const double t_bo = timed(comm, [&] {
-    for (std::int64_t k = 0; k < matmults; ++k) LEM_PETSC(MatMult(B, x, b));
-  }) / static_cast<double>(matmults);
+  const double t_bo = timed(comm,
+                            [&] {
+                              for (std::int64_t k = 0; k < matmults; ++k)
+                                LEM_PETSC(MatMult(B, x, b));
+                            }) /
+                      static_cast<double>(matmults);
   double bo_bytes = 0;
   {
     const double local = sys->bond_operator_bytes();
@@ -340,53 +349,53 @@ void run_tension_benchmark(MPI_Comm comm, SampleOptions sample, const BenchOptio
   const double mm_stream = mm_bytes / (stream * 1e9);  // MatMult time at the STREAM bound
   const double mem_max = *std::max_element(rss.begin(), rss.end());
   say("set-up:   generation %.2f s, constraints %.2f s, partition %.2f s, distribution "
-           "%.2f s\n", setup.seconds_build, setup.seconds_constraints,
-           setup.seconds_partition, setup.seconds_distribute);
-  say("system:   create+preallocate %.3f s, assembly %.3f s (repeats: median %.3f s)\n",
-           t_create, t_asm, median(asm_s));
+      "%.2f s\n",
+      setup.seconds_build, setup.seconds_constraints, setup.seconds_partition,
+      setup.seconds_distribute);
+  say("system:   create+preallocate %.3f s, assembly %.3f s (repeats: median %.3f s)\n", t_create,
+      t_asm, median(asm_s));
   say("first:    PC setup %.3f s, solve %.3f s, %d CG its (affine initial guess)\n",
-           first.setup_seconds, first.solve_seconds, first.iterations);
+      first.setup_seconds, first.solve_seconds, first.iterations);
   say("repeat:   PC setup median %.3f s, solve median %.3f s, %.0f CG its (zero initial "
-           "guess, %d repeats)\n", pcsetup_rep, solve_rep, its_rep, static_cast<int>(repeat));
+      "guess, %d repeats)\n",
+      pcsetup_rep, solve_rep, its_rep, static_cast<int>(repeat));
   say("per CG iteration %.2f ms = %.1f measured fine MatMults = %.1f STREAM-bound MatMults\n",
-           1e3 * per_it, per_it / t_mm, per_it / mm_stream);
-  say("MatMult (%s): %.2f ms, %.3g MB moved (nnz %.4g), %.2f GB/s = %.0f%% of STREAM\n",
-           type, 1e3 * t_mm, mm_bytes / 1e6, info.nz_used, mm_bytes / t_mm / 1e9,
-           100.0 * mm_stream / t_mm);
+      1e3 * per_it, per_it / t_mm, per_it / mm_stream);
+  say("MatMult (%s): %.2f ms, %.3g MB moved (nnz %.4g), %.2f GB/s = %.0f%% of STREAM\n", type,
+      1e3 * t_mm, mm_bytes / 1e6, info.nz_used, mm_bytes / t_mm / 1e9, 100.0 * mm_stream / t_mm);
   say("operators side by side (same x, same preconditioner, %d solves each):\n",
-           static_cast<int>(cg_its[0].size()));
+      static_cast<int>(cg_its[0].size()));
   say("  assembled (%s): %.2f ms per product, %.3g MB, %.0f%% of STREAM; CG %.2f ms per "
-           "iteration, %.0f its\n", type, 1e3 * t_mm, mm_bytes / 1e6, 100.0 * mm_stream / t_mm,
-           median(cg_ms[0]), median(cg_its[0]));
+      "iteration, %.0f its\n",
+      type, 1e3 * t_mm, mm_bytes / 1e6, 100.0 * mm_stream / t_mm, median(cg_ms[0]),
+      median(cg_its[0]));
   say("  bonds:     %.2f ms per product, %.3g MB (%.1f B per bond), %.0f%% of STREAM; CG "
-           "%.2f ms per iteration, %.0f its; max |K_bonds x - K x| / max |K x| = %.1e\n",
-           1e3 * t_bo, bo_bytes / 1e6, bo_bytes / static_cast<double>(setup.active_bonds),
-           100.0 * bo_bytes / (stream * 1e9) / t_bo, median(cg_ms[1]), median(cg_its[1]),
-           bo_difference);
+      "%.2f ms per iteration, %.0f its; max |K_bonds x - K x| / max |K x| = %.1e\n",
+      1e3 * t_bo, bo_bytes / 1e6, bo_bytes / static_cast<double>(setup.active_bonds),
+      100.0 * bo_bytes / (stream * 1e9) / t_bo, median(cg_ms[1]), median(cg_its[1]), bo_difference);
   say("  ratio assembled/bonds: product %.2f, CG iteration %.2f\n", t_mm / t_bo,
-           median(cg_ms[0]) / median(cg_ms[1]));
-  say("STREAM triad: %.2f GB/s aggregate over %d ranks (3 x %.0f MB per rank)\n", stream,
-           ranks, stream_mb);
+      median(cg_ms[0]) / median(cg_ms[1]));
+  say("STREAM triad: %.2f GB/s aggregate over %d ranks (3 x %.0f MB per rank)\n", stream, ranks,
+      stream_mb);
   say("per CG iteration and rank: %.1f messages (max %.1f), %.3g bytes sent (max %.3g), "
-           "%.1f reductions\n", messages[0], messages[1], message_bytes[0], message_bytes[1],
-           reductions[1]);
+      "%.1f reductions\n",
+      messages[0], messages[1], message_bytes[0], message_bytes[1], reductions[1]);
   say("peak RSS MB: max %.0f; per rank after set-up [%s], at end [%s]\n", mem_max,
-           list(rss_setup).c_str(), list(rss).c_str());
+      list(rss_setup).c_str(), list(rss).c_str());
   say("# MESSAGES columns: ranks,bonds,messages_mean,messages_max,bytes_mean,bytes_max,"
-           "reductions (per CG iteration and rank)\n");
-  say("MESSAGES,%d,%lld,%.2f,%.2f,%.4g,%.4g,%.2f\n", ranks, nbonds, messages[0],
-           messages[1], message_bytes[0], message_bytes[1], reductions[1]);
+      "reductions (per CG iteration and rank)\n");
+  say("MESSAGES,%d,%lld,%.2f,%.2f,%.4g,%.4g,%.2f\n", ranks, nbonds, messages[0], messages[1],
+      message_bytes[0], message_bytes[1], reductions[1]);
   say("# BENCH columns: ranks,bonds,nodes,gen_s,partition_s,distribute_s,assembly_s,"
-           "pcsetup_s,solve_s,its,mem_max_MB,stream_GBs,constraints_s,morton,pcsetup_rep_s,"
-           "solve_rep_s,its_rep,ms_per_it,matmult_ms,matmult_MB,matmult_GBs,it_in_matmults,"
-           "stream_fraction_matmult\n");
+      "pcsetup_s,solve_s,its,mem_max_MB,stream_GBs,constraints_s,morton,pcsetup_rep_s,"
+      "solve_rep_s,its_rep,ms_per_it,matmult_ms,matmult_MB,matmult_GBs,it_in_matmults,"
+      "stream_fraction_matmult\n");
   say("BENCH,%d,%lld,%lld,%.3f,%.3f,%.3f,%.4f,%.4f,%.4f,%d,%.0f,%.2f,%.3f,%d,%.4f,%.4f,%.0f,"
-           "%.3f,%.3f,%.1f,%.2f,%.2f,%.3f\n",
-           ranks, nbonds, nodes, setup.seconds_build, setup.seconds_partition,
-           setup.seconds_distribute, t_asm, first.setup_seconds, first.solve_seconds,
-           first.iterations, mem_max, stream, setup.seconds_constraints, morton ? 1 : 0,
-           pcsetup_rep, solve_rep, its_rep, 1e3 * per_it, 1e3 * t_mm, mm_bytes / 1e6,
-           mm_bytes / t_mm / 1e9, per_it / t_mm, mm_stream / t_mm);
+      "%.3f,%.3f,%.1f,%.2f,%.2f,%.3f\n",
+      ranks, nbonds, nodes, setup.seconds_build, setup.seconds_partition, setup.seconds_distribute,
+      t_asm, first.setup_seconds, first.solve_seconds, first.iterations, mem_max, stream,
+      setup.seconds_constraints, morton ? 1 : 0, pcsetup_rep, solve_rep, its_rep, 1e3 * per_it,
+      1e3 * t_mm, mm_bytes / 1e6, mm_bytes / t_mm / 1e9, per_it / t_mm, mm_stream / t_mm);
 }
 
 }  // namespace lem

@@ -61,8 +61,8 @@ double aij_product_bytes(Mat A) {
 
 void print_rows(const char* title, const std::vector<Row>& rows, double ms_per_it) {
   say("%s\n", title);
-  say("  %-22s %10s %12s %8s %9s %10s %9s %8s\n", "level", "rows", "nonzeros", "visits",
-      "products", "transfers", "MB (model)", "ms");
+  say("  %-22s %10s %12s %8s %9s %10s %9s %8s\n", "level", "rows", "nonzeros", "visits", "products",
+      "transfers", "MB (model)", "ms");
   double sum = 0;
   for (const Row& r : rows) {
     say("  %-22s %10lld %12lld %8.2f %9.2f %10.2f %9.1f %8.2f\n", r.name.c_str(), r.rows,
@@ -81,9 +81,9 @@ void account_levels(MPI_Comm comm, ElasticSystem& sys, DistributedLattice& latti
   SingleCycle* cycle = SingleCycle::of(ksp);
   std::unique_ptr<SingleCycle> added;
   if (!cycle) {
-    added = std::make_unique<SingleCycle>(lattice, solver.ground_stiffness *
-                                                       sys.constrained_diagonal(),
-                                          sys.constrained_diagonal(), ksp);
+    added =
+        std::make_unique<SingleCycle>(lattice, solver.ground_stiffness * sys.constrained_diagonal(),
+                                      sys.constrained_diagonal(), ksp);
     cycle = added.get();
     LEM_PETSC(KSPSetUp(ksp));
   }
@@ -110,13 +110,13 @@ void account_levels(MPI_Comm comm, ElasticSystem& sys, DistributedLattice& latti
     std::vector<Perf> before;
     auto snapshot = [&] {
       std::vector<Perf> p;
-      for (const char* e : {"PCApply", "MatMult", "VecTDot", "VecDot", "VecNorm", "VecAXPY",
-                            "VecAYPX", "VecCopy"})
+      for (const char* e :
+           {"PCApply", "MatMult", "VecTDot", "VecDot", "VecNorm", "VecAXPY", "VecAYPX", "VecCopy"})
         p.push_back(event_perf(stage_name, e));
       for (PetscInt l = 0; l < levels; ++l)
         for (const char* kind : {"MGSmooth", "MGResid", "MGInterp"})
-          p.push_back(event_perf("MG Apply", (std::string(kind) + " Level " +
-                                              std::to_string(l)).c_str()));
+          p.push_back(
+              event_perf("MG Apply", (std::string(kind) + " Level " + std::to_string(l)).c_str()));
       return p;
     };
     LEM_PETSC(VecZeroEntries(x));
@@ -132,15 +132,15 @@ void account_levels(MPI_Comm comm, ElasticSystem& sys, DistributedLattice& latti
     LEM_PETSC(KSPGetIterationNumber(ksp, &its));
     const double per = 1.0 / static_cast<double>(std::max<PetscInt>(its, 1));
     auto delta_of = [&](std::size_t k, bool count) {
-      const double d = count ? after[k].count - before[k].count
-                             : after[k].seconds - before[k].seconds;
+      const double d =
+          count ? after[k].count - before[k].count : after[k].seconds - before[k].seconds;
       return max_over(comm, d) * per;
     };
     // (The coarse solve of the single cycle is a KSPSolve and a PCApply of
     // its own, in the same stage: its own timer instead.)
     const double solve_ms = 1e3 * solve_seconds * per;
-    const double pc_ms = 1e3 * (single ? max_over(comm, cycle->apply_seconds()) * per
-                                       : delta_of(0, false));
+    const double pc_ms =
+        1e3 * (single ? max_over(comm, cycle->apply_seconds()) * per : delta_of(0, false));
     const double matmult_ms = 1e3 * delta_of(1, false);
     double vector_ms = 0;  // CG's own vector operations and reductions
     for (std::size_t k = 2; k < kVectorEvents; ++k) vector_ms += 1e3 * delta_of(k, false);
@@ -151,9 +151,9 @@ void account_levels(MPI_Comm comm, ElasticSystem& sys, DistributedLattice& latti
       for (std::size_t i = 0; i < stats.size(); ++i) {
         const auto& s = stats[i];
         Row r;
-        r.name = i == 0 ? "0 (fine, bonds)" : i + 1 == stats.size()
-                                                   ? std::to_string(i) + " (coarse, double LU)"
-                                                   : std::to_string(i);
+        r.name = i == 0                  ? "0 (fine, bonds)"
+                 : i + 1 == stats.size() ? std::to_string(i) + " (coarse, double LU)"
+                                         : std::to_string(i);
         r.rows = s.rows;
         r.nonzeros = s.nonzeros;
         r.visits = s.visits * per;
@@ -177,9 +177,9 @@ void account_levels(MPI_Comm comm, ElasticSystem& sys, DistributedLattice& latti
         const std::size_t k = kVectorEvents + 3 * static_cast<std::size_t>(l);
         Row r;
         const long long depth = levels - 1 - l;
-        r.name = l == levels - 1 ? "0 (fine, bonds)" : l == 0 ? std::to_string(depth) +
-                                                                    " (coarse, LU)"
-                                                              : std::to_string(depth);
+        r.name = l == levels - 1 ? "0 (fine, bonds)"
+                 : l == 0        ? std::to_string(depth) + " (coarse, LU)"
+                                 : std::to_string(depth);
         r.rows = n;
         r.nonzeros = static_cast<long long>(info.nz_used);
         r.ms = 1e3 * (delta_of(k, false) + delta_of(k + 1, false) + delta_of(k + 2, false));
@@ -195,8 +195,8 @@ void account_levels(MPI_Comm comm, ElasticSystem& sys, DistributedLattice& latti
               l == levels - 1 && bond_bytes > 0 ? bond_bytes : aij_product_bytes(A);
           PetscInt rows_here = 0;
           LEM_PETSC(MatGetSize(A, &rows_here, nullptr));
-          r.megabytes = r.visits * (3 * product + 2 * aij_product_bytes(P) +
-                                    12.0 * 8.0 * rows_here) / 1e6;
+          r.megabytes =
+              r.visits * (3 * product + 2 * aij_product_bytes(P) + 12.0 * 8.0 * rows_here) / 1e6;
         } else {
           r.visits = delta_of(k, true);
         }
@@ -217,12 +217,13 @@ void account_levels(MPI_Comm comm, ElasticSystem& sys, DistributedLattice& latti
 
     const std::string title = std::string("per-level accounting, ") +
                               (single ? "single" : "double") + "-precision cycle, one solve of " +
-                              std::to_string(its) + " CG its (per CG iteration; MB summed "
+                              std::to_string(its) +
+                              " CG its (per CG iteration; MB summed "
                               "over ranks):";
     // The measured figure: the same solve without the logging of levels.
     print_rows(title.c_str(), rows, solve_ms);
-    say("  (the preconditioner: %.2f ms per CG iteration, %.2f of it in the level rows)\n",
-        pc_ms, level_ms);
+    say("  (the preconditioner: %.2f ms per CG iteration, %.2f of it in the level rows)\n", pc_ms,
+        level_ms);
   }
 
   // Both precisions alternately, unlogged: ms per iteration, iterations,
@@ -261,22 +262,22 @@ void account_levels(MPI_Comm comm, ElasticSystem& sys, DistributedLattice& latti
       median_of(ms[0]), median_of(its[0]), young[0], system_its[0]);
   say("  single: %.2f ms per CG iteration, %.0f its; E_eff %.12g (%d its from zero)\n",
       median_of(ms[1]), median_of(its[1]), young[1], system_its[1]);
-  say("  ratio double/single per CG iteration %.2f (each pair: ", median_of(ms[0]) /
-      median_of(ms[1]));
+  say("  ratio double/single per CG iteration %.2f (each pair: ",
+      median_of(ms[0]) / median_of(ms[1]));
   for (std::size_t k = 0; k < ms[0].size(); ++k) say("%s%.2f", k ? " " : "", ms[0][k] / ms[1][k]);
   say("), CPU time %.2f / %.2f ms = %.2f", median_of(cpu_ms[0]), median_of(cpu_ms[1]),
       median_of(cpu_ms[0]) / median_of(cpu_ms[1]));
   say("; |E_single - E_double| / E_double = %.1e; float copies %.1f MB per rank (max), "
-      "peak RSS %.0f MB\n", std::fabs(young[1] - young[0]) / young[0], memory,
-      *std::max_element(rss.begin(), rss.end()));
+      "peak RSS %.0f MB\n",
+      std::fabs(young[1] - young[0]) / young[0], memory, *std::max_element(rss.begin(), rss.end()));
   say("# CYCLE columns: ranks,double_ms_per_it,single_ms_per_it,double_its,single_its,"
       "E_double,E_single,float_MB_per_rank\n");
   int ranks = 1;
   MPI_Comm_size(comm, &ranks);
-  say("CYCLE,%d,%.3f,%.3f,%.0f,%.0f,%.12g,%.12g,%.1f\n", ranks, median_of(ms[0]),
-      median_of(ms[1]), median_of(its[0]), median_of(its[1]), young[0], young[1], memory);
+  say("CYCLE,%d,%.3f,%.3f,%.0f,%.0f,%.12g,%.12g,%.1f\n", ranks, median_of(ms[0]), median_of(ms[1]),
+      median_of(its[0]), median_of(its[1]), young[0], young[1], memory);
   cycle->use_single(!added);  // as the options asked
-  if (added) {  // the multigrid back on the KSP, as it was
+  if (added) {                // the multigrid back on the KSP, as it was
     Mat A = nullptr, P = nullptr;
     LEM_PETSC(KSPGetOperators(ksp, &A, &P));
     LEM_PETSC(PetscObjectReference(reinterpret_cast<PetscObject>(A)));

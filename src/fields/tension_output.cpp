@@ -3,7 +3,8 @@
 
 namespace lem {
 
-std::optional<SymTensor> write_tension_fields(const std::string& stem, const DistributedLattice& lattice,
+std::optional<SymTensor> write_tension_fields(const std::string& stem,
+                                              const DistributedLattice& lattice,
                                               const ElasticSystem& system,
                                               const Provenance& provenance,
                                               const Summary& summary) {

@@ -48,7 +48,8 @@ bool write_string_attribute(hid_t location, const std::string& name, const std::
   if (H5Tset_cset(type.get(), H5T_CSET_UTF8) < 0) return false;
   Handle space(H5Screate(H5S_SCALAR), H5Sclose);
   if (!space.valid()) return false;
-  Handle attribute(H5Acreate2(location, name.c_str(), type.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT),
+  Handle attribute(H5Acreate2(location, name.c_str(), type.get(), space.get(), H5P_DEFAULT,
+                              H5P_DEFAULT),
                    H5Aclose);
   if (!attribute.valid()) return false;
   const char* text = value.c_str();
@@ -60,7 +61,8 @@ bool write_numeric_attribute(hid_t location, const std::string& name, hid_t file
                              hid_t memory_type, const void* value) {
   Handle space(H5Screate(H5S_SCALAR), H5Sclose);
   if (!space.valid()) return false;
-  Handle attribute(H5Acreate2(location, name.c_str(), file_type, space.get(), H5P_DEFAULT, H5P_DEFAULT),
+  Handle attribute(H5Acreate2(location, name.c_str(), file_type, space.get(), H5P_DEFAULT,
+                              H5P_DEFAULT),
                    H5Aclose);
   if (!attribute.valid()) return false;
   if (H5Awrite(attribute.get(), memory_type, value) < 0) return false;
@@ -86,12 +88,23 @@ std::string xml_escape(const std::string& text) {
   out.reserve(text.size());
   for (char c : text) {
     switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      case '\'': out += "&apos;"; break;
-      default: out += c;
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      case '\'':
+        out += "&apos;";
+        break;
+      default:
+        out += c;
     }
   }
   return out;
@@ -99,9 +112,7 @@ std::string xml_escape(const std::string& text) {
 
 }  // namespace
 
-XdmfText::XdmfText(std::string h5_name) : h5_name_(std::move(h5_name)) {
-  out_ << document_head();
-}
+XdmfText::XdmfText(std::string h5_name) : h5_name_(std::move(h5_name)) { out_ << document_head(); }
 
 std::string XdmfText::document_head() {
   return "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n  <Domain>\n";
@@ -159,7 +170,9 @@ void XdmfText::begin_polylines(const std::string& grid, std::int64_t lines,
 
 void XdmfText::attribute(const XdmfArray& a, const char* center, std::int64_t rows) {
   out_ << "      <Attribute Name=\"" << xml_escape(a.name) << "\" AttributeType=\""
-       << (a.components == 3 ? "Vector" : a.components == 6 ? "Tensor6" : "Scalar")
+       << (a.components == 3   ? "Vector"
+           : a.components == 6 ? "Tensor6"
+                               : "Scalar")
        << "\" Center=\"" << center << "\">\n";
   data_item(rows, a.components, a.number_type, a.precision, a.dataset);
   out_ << "      </Attribute>\n";
@@ -176,8 +189,7 @@ namespace fs = std::filesystem;
 void write_xdmf_series(const std::string& path, const std::vector<std::string>& grid_files,
                        const std::string& time_attribute) {
   std::ostringstream out;
-  out << h5::XdmfText::document_head()
-      << "    <Grid Name=\"" << fs::path(path).stem().string()
+  out << h5::XdmfText::document_head() << "    <Grid Name=\"" << fs::path(path).stem().string()
       << "\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
   for (const std::string& file : grid_files) {
     std::ifstream in(file);
@@ -191,8 +203,8 @@ void write_xdmf_series(const std::string& path, const std::vector<std::string>& 
     {
       const h5::Handle h5(H5Fopen(h5_path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
       const h5::Handle attribute(h5.valid() ? H5Aopen(h5.get(), time_attribute.c_str(), H5P_DEFAULT)
-                                        : H5I_INVALID_HID,
-                             H5Aclose);
+                                            : H5I_INVALID_HID,
+                                 H5Aclose);
       if (!attribute.valid() || H5Aread(attribute.get(), H5T_NATIVE_DOUBLE, &time) < 0)
         throw IoError("cannot read the attribute '" + time_attribute + "' of '" + h5_path +
                       "' for '" + path + "'");

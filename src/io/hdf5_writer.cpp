@@ -71,7 +71,9 @@ struct LocalError {
 };
 
 /// If any rank holds an error, every rank throws the error of the lowest such rank.
-void raise_collectively(MPI_Comm comm, const LocalError& error) { agree_on_error(comm, error.first); }
+void raise_collectively(MPI_Comm comm, const LocalError& error) {
+  agree_on_error(comm, error.first);
+}
 
 // ---------------------------------------------------------------------------
 // Input validation
@@ -105,25 +107,23 @@ void check_fields(const std::vector<Field>& fields, std::size_t items, const cha
     const std::string where = std::string("/") + group + "/" + f.name;
     if (f.name.empty() || f.name == "." || f.name == ".." ||
         f.name.find_first_of("/\n") != std::string::npos) {
-      error.set(std::invalid_argument(
-                std::string("write_lattice_fields: invalid ") + group + " field name '" + f.name +
-                    "' (must be non-empty and contain no '/')"));
+      error.set(std::invalid_argument(std::string("write_lattice_fields: invalid ") + group +
+                                      " field name '" + f.name +
+                                      "' (must be non-empty and contain no '/')"));
     } else if (reserved.count(f.name) != 0) {
-      error.set(std::invalid_argument(
-                "write_lattice_fields: field name '" + f.name + "' is reserved in /" + group));
+      error.set(std::invalid_argument("write_lattice_fields: field name '" + f.name +
+                                      "' is reserved in /" + group));
     } else if (!seen.insert(f.name).second) {
-      error.set(std::invalid_argument(
-                "write_lattice_fields: duplicate field " + where));
+      error.set(std::invalid_argument("write_lattice_fields: duplicate field " + where));
     } else if (f.components != 1 && f.components != 3 && f.components != 6) {
-      error.set(std::invalid_argument(
-                "write_lattice_fields: field " + where + " has " + std::to_string(f.components) +
-                    " components (allowed: 1, 3 or 6)"));
+      error.set(std::invalid_argument("write_lattice_fields: field " + where + " has " +
+                                      std::to_string(f.components) +
+                                      " components (allowed: 1, 3 or 6)"));
     } else if (f.values.size() != items * static_cast<std::size_t>(f.components)) {
-      error.set(std::invalid_argument(
-                "write_lattice_fields: field " + where + " has " + std::to_string(f.values.size()) +
-                    " values on rank " + std::to_string(rank) + ", expected " +
-                    std::to_string(items) + " items x " + std::to_string(f.components) +
-                    " components"));
+      error.set(std::invalid_argument("write_lattice_fields: field " + where + " has " +
+                                      std::to_string(f.values.size()) + " values on rank " +
+                                      std::to_string(rank) + ", expected " + std::to_string(items) +
+                                      " items x " + std::to_string(f.components) + " components"));
     }
   }
 }
@@ -261,15 +261,13 @@ void write_lattice_fields(MPI_Comm comm, const std::string& stem, const NodeSlic
   const std::size_t local_nodes = nodes.coords.size();
   const std::size_t local_bonds = bonds.ends.size();
   if (nodes.ids.size() != local_nodes)
-    error.set(std::invalid_argument(
-              "write_lattice_fields: rank " + std::to_string(rank) + " has " +
-                  std::to_string(local_nodes) + " node coordinates but " +
-                  std::to_string(nodes.ids.size()) + " node ids"));
+    error.set(std::invalid_argument("write_lattice_fields: rank " + std::to_string(rank) + " has " +
+                                    std::to_string(local_nodes) + " node coordinates but " +
+                                    std::to_string(nodes.ids.size()) + " node ids"));
   if (bonds.ids.size() != local_bonds)
-    error.set(std::invalid_argument(
-              "write_lattice_fields: rank " + std::to_string(rank) + " has " +
-                  std::to_string(local_bonds) + " bonds but " + std::to_string(bonds.ids.size()) +
-                  " bond ids"));
+    error.set(std::invalid_argument("write_lattice_fields: rank " + std::to_string(rank) + " has " +
+                                    std::to_string(local_bonds) + " bonds but " +
+                                    std::to_string(bonds.ids.size()) + " bond ids"));
   check_fields(nodes.fields, local_nodes, "nodes", {"coordinates", "id", "vertices"}, rank, error);
   check_fields(bonds.fields, local_bonds, "bonds", {"connectivity", "id"}, rank, error);
   raise_collectively(comm, error);
@@ -281,9 +279,9 @@ void write_lattice_fields(MPI_Comm comm, const std::string& stem, const NodeSlic
     const std::string mine = schema_text(node_fields, bond_fields);
     const std::string root = broadcast_string(comm, mine, 0);
     if (mine != root)
-      error.set(std::invalid_argument(
-                "write_lattice_fields: rank " + std::to_string(rank) +
-                    " passes different fields (names/components/order) than rank 0"));
+      error.set(
+          std::invalid_argument("write_lattice_fields: rank " + std::to_string(rank) +
+                                " passes different fields (names/components/order) than rank 0"));
     raise_collectively(comm, error);
   }
 
@@ -308,9 +306,8 @@ void write_lattice_fields(MPI_Comm comm, const std::string& stem, const NodeSlic
     for (std::size_t i = 0; i < values.size(); ++i) {
       std::string name = broadcast_string(comm, rank == 0 ? scalars[i].first : std::string(), 0);
       if (name.empty() || !names.insert(name).second)
-        error.set(std::invalid_argument(
-                  "write_lattice_fields: scalar name '" + name +
-                      "' is empty, duplicated or reserved for provenance"));
+        error.set(std::invalid_argument("write_lattice_fields: scalar name '" + name +
+                                        "' is empty, duplicated or reserved for provenance"));
       root_scalars.emplace_back(std::move(name), values[i]);
     }
     raise_collectively(comm, error);  // identical on all ranks: no rank is left behind
@@ -327,8 +324,7 @@ void write_lattice_fields(MPI_Comm comm, const std::string& stem, const NodeSlic
   const std::string nodes_xmf_path = stem + "_nodes.xmf";
   if (rank == 0) {
     const std::string why = probe_writable(tmp_path);
-    if (!why.empty())
-      error.set(InputError("cannot write output '" + h5_path + "': " + why));
+    if (!why.empty()) error.set(InputError("cannot write output '" + h5_path + "': " + why));
   }
   raise_collectively(comm, error);
 
@@ -341,9 +337,9 @@ void write_lattice_fields(MPI_Comm comm, const std::string& stem, const NodeSlic
   for (const auto& ends : bonds.ends) {
     for (std::int64_t end : ends) {
       if (end < 0 || end >= layout.nodes) {
-        error.set(std::invalid_argument(
-                  "write_lattice_fields: bond end node " + std::to_string(end) +
-                      " is outside the node rows [0, " + std::to_string(layout.nodes) + ")"));
+        error.set(std::invalid_argument("write_lattice_fields: bond end node " +
+                                        std::to_string(end) + " is outside the node rows [0, " +
+                                        std::to_string(layout.nodes) + ")"));
       }
     }
   }

@@ -118,7 +118,8 @@ ParallelHdf5File::ParallelHdf5File(MPI_Comm comm, const std::string& path)
 
 hid_t ParallelHdf5File::group(const std::string& name) {
   collective_hdf5_step(comm_, "HDF5: cannot create group /" + name + " in " + label_, [&] {
-    groups_.emplace_back(H5Gcreate2(file_.get(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+    groups_.emplace_back(H5Gcreate2(file_.get(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT,
+                                    H5P_DEFAULT),
                          H5Gclose);
     return groups_.back().valid();
   });
@@ -175,8 +176,8 @@ void ParallelHdf5File::dataset(hid_t parent, const std::string& path, const std:
     collective_hdf5_step(comm_, "HDF5: cannot write dataset " + path + " in " + label_, [&] {
       const double dummy = 0.0;  // never read: the selection is empty
       const void* buffer = slab.local_rows > 0 ? data : static_cast<const void*>(&dummy);
-      return H5Dwrite(set.get(), memory_type, memory_space.get(), file_space.get(),
-                      transfer_.get(), buffer) >= 0;
+      return H5Dwrite(set.get(), memory_type, memory_space.get(), file_space.get(), transfer_.get(),
+                      buffer) >= 0;
     });
   }
   collective_hdf5_step(comm_, "HDF5: cannot close dataset " + path + " in " + label_,

@@ -65,8 +65,9 @@ struct WriteWatch::State {
       if (stop_seen && seconds(now - *stop_seen) > grace + later) {
         char after[32];
         std::snprintf(after, sizeof after, "%g", grace);
-        end_job(4, "stopped by " + signal_name(stop_signal_received()) + " while writing '" +
-                       file + "', which had not ended " + after + " s later "
+        end_job(4, "stopped by " + signal_name(stop_signal_received()) + " while writing '" + file +
+                       "', which had not ended " + after +
+                       " s later "
                        "(-output_write_grace): abandoned, nothing of it is in place; run the "
                        "same command again to resume from the last checkpoint");
       }
@@ -103,12 +104,12 @@ extern "C" void note_file_error(MPI_File*, int* code, ...) {
 // A write that MPI-IO cut short: ompio reports a full disk to HDF5 as a
 // write of fewer items than asked, with MPI_SUCCESS, and HDF5 may then hold
 // the ranks in different collective calls before it returns.
-void check_write(const char* call, int code, int count, MPI_Datatype type,
-                 const MPI_Status* status, int error_number) {
+void check_write(const char* call, int code, int count, MPI_Datatype type, const MPI_Status* status,
+                 int error_number) {
   if (g_active.load() == nullptr) return;
   int written = 0;
-  if (code == MPI_SUCCESS && (PMPI_Get_count(status, type, &written) != MPI_SUCCESS ||
-                              written == count))
+  if (code == MPI_SUCCESS &&
+      (PMPI_Get_count(status, type, &written) != MPI_SUCCESS || written == count))
     return;
   std::string why = call;
   if (code != MPI_SUCCESS) {
@@ -205,8 +206,7 @@ namespace {
 
 // `write(status)`, a call of MPI-IO, checked for a short write.
 template <class Write>
-int checked_write(const char* call, int count, MPI_Datatype type, MPI_Status* status,
-                  Write write) {
+int checked_write(const char* call, int count, MPI_Datatype type, MPI_Status* status, Write write) {
   MPI_Status own;
   if (status == MPI_STATUS_IGNORE) status = &own;
   errno = 0;
@@ -227,8 +227,8 @@ extern "C" int MPI_File_write_at(MPI_File file, MPI_Offset offset, const void* d
   });
 }
 
-extern "C" int MPI_File_write_at_all(MPI_File file, MPI_Offset offset, const void* data,
-                                     int count, MPI_Datatype type, MPI_Status* status) {
+extern "C" int MPI_File_write_at_all(MPI_File file, MPI_Offset offset, const void* data, int count,
+                                     MPI_Datatype type, MPI_Status* status) {
   return lem::checked_write("MPI_File_write_at_all", count, type, status, [&](MPI_Status* s) {
     return PMPI_File_write_at_all(file, offset, data, count, type, s);
   });

@@ -104,7 +104,8 @@ class Grid {
   }
   /// The region whose points this rank knows, as a box.
   Box known_region() const {
-    return {extent({elo_[0], elo_[1], elo_[2]}).lo, extent({ehi_[0] - 1, ehi_[1] - 1, ehi_[2] - 1}).hi};
+    return {extent({elo_[0], elo_[1], elo_[2]}).lo,
+            extent({ehi_[0] - 1, ehi_[1] - 1, ehi_[2] - 1}).hi};
   }
   int rank() const { return rank_; }
 
@@ -170,7 +171,8 @@ struct Sent {
 
 }  // namespace
 
-static_assert(kTriangulationMarginCells >= 1, "the random sequential addition reads the cells next to a rank's own");
+static_assert(kTriangulationMarginCells >= 1,
+              "the random sequential addition reads the cells next to a rank's own");
 
 LatticeBlock make_cell_lattice(MPI_Comm comm, const RandomLatticeSpec& spec) {
   const Box& box = spec.box;
@@ -221,7 +223,8 @@ LatticeBlock make_cell_lattice(MPI_Comm comm, const RandomLatticeSpec& spec) {
              if (!on_side(c, a, s)) continue;
              Placement p{share(face_count[a], std::int64_t(c[b]) * n[d] + c[d],
                                std::int64_t(n[b]) * n[d]),
-                         {0, 0, 0}, {}};
+                         {0, 0, 0},
+                         {}};
              p.fixed[a] = 1;
              p.at[a] = side_at(a, s);
              out.push_back(p);
@@ -372,9 +375,9 @@ LatticeBlock make_cell_lattice(MPI_Comm comm, const RandomLatticeSpec& spec) {
           }
         certain = flat;
       } else {
-        const Kernel::Point_3 centre = CGAL::circumcenter(
-            t->vertex(0)->point(), t->vertex(1)->point(), t->vertex(2)->point(),
-            t->vertex(3)->point());
+        const Kernel::Point_3 centre =
+            CGAL::circumcenter(t->vertex(0)->point(), t->vertex(1)->point(), t->vertex(2)->point(),
+                               t->vertex(3)->point());
         const double radius2 = CGAL::squared_distance(centre, t->vertex(0)->point());
         // Along axis a, a point of the sphere inside the box lies within
         // sqrt(R^2 - the squared distances from the centre to the box on the
@@ -396,8 +399,8 @@ LatticeBlock make_cell_lattice(MPI_Comm comm, const RandomLatticeSpec& spec) {
         const auto& p = t->vertex(dt.is_infinite(t->vertex(0)) ? 1 : 0)->point();
         std::ostringstream s;
         s << "random lattice: a margin of " << kTriangulationMarginCells
-          << " generation cells is too thin to make the Delaunay edges of the nodes near ("
-          << p.x() << ", " << p.y() << ", " << p.z() << ") certain on rank " << grid.rank()
+          << " generation cells is too thin to make the Delaunay edges of the nodes near (" << p.x()
+          << ", " << p.y() << ", " << p.z() << ") certain on rank " << grid.rank()
           << " (a lattice this irregular needs the serial generator)";
         throw InputError(s.str());
       }
@@ -429,9 +432,8 @@ LatticeBlock make_cell_lattice(MPI_Comm comm, const RandomLatticeSpec& spec) {
   for (std::size_t k = 0; k < edges.size(); ++k) to[k] = node_rows.rank_of(edges[k].i);
   std::vector<Edge> sorted = route(comm, edges, to);
   std::vector<Edge>().swap(edges);  // the memory back: the edges are the largest arrays here
-  std::sort(sorted.begin(), sorted.end(), [](const Edge& a, const Edge& b) {
-    return a.i != b.i ? a.i < b.i : a.j < b.j;
-  });
+  std::sort(sorted.begin(), sorted.end(),
+            [](const Edge& a, const Edge& b) { return a.i != b.i ? a.i < b.i : a.j < b.j; });
   std::int64_t count = static_cast<std::int64_t>(sorted.size()), before = 0, bonds = 0;
   MPI_Exscan(&count, &before, 1, MPI_INT64_T, MPI_SUM, comm);
   MPI_Allreduce(&count, &bonds, 1, MPI_INT64_T, MPI_SUM, comm);

@@ -133,7 +133,8 @@ void add_affine_bond(AffineModuli& m, const Point& p, const Point& q, double k, 
   const double d[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]};
   const double l2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
   // k L^2 n_i n_j n_k n_l = k d_i d_j d_k d_l / L^2
-  const double v[6] = {d[0] * d[0], d[1] * d[1], d[2] * d[2], d[1] * d[2], d[0] * d[2], d[0] * d[1]};
+  const double v[6] = {d[0] * d[0], d[1] * d[1], d[2] * d[2],
+                       d[1] * d[2], d[0] * d[2], d[0] * d[1]};
   const double w = k / (l2 * volume);
   for (int I = 0; I < 6; ++I)
     for (int J = 0; J < 6; ++J) m.C[I][J] += w * v[I] * v[J];

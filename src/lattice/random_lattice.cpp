@@ -79,9 +79,10 @@ PointCounts point_counts(const Box& box, std::int64_t target) {
   for (int a = 0; a < 3; ++a) {
     const int b = (a + 1) % 3, d = (a + 2) % 3;
     c.edge[a] = std::max<std::int64_t>(0, std::llround(box.length(a) / spacing) - 1);
-    c.face[a] = std::max<std::int64_t>(
-        0, std::llround(box.length(b) * box.length(d) / (spacing * spacing)) -
-               2 * std::llround((box.length(b) + box.length(d)) / spacing));
+    c.face[a] =
+        std::max<std::int64_t>(0,
+                               std::llround(box.length(b) * box.length(d) / (spacing * spacing)) -
+                                   2 * std::llround((box.length(b) + box.length(d)) / spacing));
     boundary += 4 * c.edge[a] + 2 * c.face[a];
   }
   c.inside = target - boundary;
@@ -117,13 +118,11 @@ Lattice make_random_lattice(const RandomLatticeSpec& spec) {
       if (++tries > max_tries) {
         std::ostringstream s;
         s << "random lattice: could only place " << placed << " of " << count << " points on the "
-          << where << " with minimum separation " << rmin
-          << " (lower -lattice_min_separation)";
+          << where << " with minimum separation " << rmin << " (lower -lattice_min_separation)";
         throw InputError(s.str());
       }
       Point p;
-      for (int a = 0; a < 3; ++a)
-        p[a] = fixed[a] ? at[a] : box.lo[a] + unit(rng) * box.length(a);
+      for (int a = 0; a < 3; ++a) p[a] = fixed[a] ? at[a] : box.lo[a] + unit(rng) * box.length(a);
       if (grid.try_add(p, points)) ++placed;
     }
   };

@@ -16,10 +16,9 @@ namespace lem {
 using DelaunayKernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 /// Vertex info: an index of the caller's.
 using Delaunay = CGAL::Delaunay_triangulation_3<
-    DelaunayKernel,
-    CGAL::Triangulation_data_structure_3<
-        CGAL::Triangulation_vertex_base_with_info_3<std::int64_t, DelaunayKernel>,
-        CGAL::Delaunay_triangulation_cell_base_3<DelaunayKernel>>>;
+    DelaunayKernel, CGAL::Triangulation_data_structure_3<
+                        CGAL::Triangulation_vertex_base_with_info_3<std::int64_t, DelaunayKernel>,
+                        CGAL::Delaunay_triangulation_cell_base_3<DelaunayKernel>>>;
 
 /// How many points the process places: the 8 corners, on each edge parallel
 /// to axis a, on each face normal to axis a, and inside, at the density of

@@ -199,8 +199,7 @@ class ConvexCell {
     const Point& a = cur_.vert[i];
     const Point& b = cur_.vert[o];
     const int id = static_cast<int>(next_.nv++);
-    next_.vert[id] = {a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]),
-                      a[2] + t * (b[2] - a[2])};
+    next_.vert[id] = {a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]), a[2] + t * (b[2] - a[2])};
     on_plane_[id] = 1;
     cuts_[ncuts_] = {o, id, first_cut_[i]};
     first_cut_[i] = static_cast<int>(ncuts_++);
@@ -303,8 +302,8 @@ double cell_volume(ConvexCell& cell, const Box& box, double scale, const Point& 
   for (const auto& [d2, q] : neighbours) {
     if (d2 == 0) {
       std::ostringstream s;
-      s << "Voronoi cells: two nodes coincide at (" << node[0] << ", " << node[1] << ", "
-        << node[2] << ")";
+      s << "Voronoi cells: two nodes coincide at (" << node[0] << ", " << node[1] << ", " << node[2]
+        << ")";
       throw InputError(s.str());
     }
     // Bisector of node and q.  n and m are the same (up to the sign of n,
@@ -354,8 +353,8 @@ std::vector<double> voronoi_volumes(const Lattice& lattice) {
     if (b.i < 0 || b.j < 0 || static_cast<std::size_t>(b.i) >= n ||
         static_cast<std::size_t>(b.j) >= n) {
       std::ostringstream s;
-      s << "Voronoi cells: bond (" << b.i << ", " << b.j << ") names a node outside 0.."
-        << n << "-1";
+      s << "Voronoi cells: bond (" << b.i << ", " << b.j << ") names a node outside 0.." << n
+        << "-1";
       throw InputError(s.str());
     }
     ++begin[b.i + 1];

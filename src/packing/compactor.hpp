@@ -210,8 +210,8 @@ class Compactor {
     }
     pairs_.clear();
     for_each_close_pair(x_, r_, L_, rmax_, skin_, [&](std::int64_t i, std::int64_t j) {
-      pairs_.push_back({static_cast<std::int32_t>(std::min(i, j)),
-                        static_cast<std::int32_t>(std::max(i, j))});
+      pairs_.push_back(
+          {static_cast<std::int32_t>(std::min(i, j)), static_cast<std::int32_t>(std::max(i, j))});
     });
     // Sorted by the first index (counting sort), so consecutive pairs share
     // a particle and the pair loops walk the positions in order.
@@ -276,9 +276,7 @@ class Compactor {
   }
 
   // Forces of the soft repulsion; returns the energy and sets mean_force_.
-  double forces() {
-    return law_ == ContactLaw::hertz ? forces_of<true>() : forces_of<false>();
-  }
+  double forces() { return law_ == ContactLaw::hertz ? forces_of<true>() : forces_of<false>(); }
 
   // Three flat passes over the inner list: separations, then the square
   // roots and divisions two pairs at a time (SSE2), then the forces.  No
@@ -368,9 +366,9 @@ class Compactor {
   std::int64_t n_ = 0;
   double rmax_ = 0, solid_ = 0, skin_ = 0, drift_ = 0, vmax_ = 0, mean_force_ = 0;
   std::vector<std::array<std::int32_t, 2>> pairs_;  // the list, as found
-  std::vector<std::int32_t> pi_, pj_;  // the list, sorted by pi_
-  std::vector<std::uint8_t> image_;    // index into shift_ of each listed pair
-  std::vector<std::int32_t> ni_, nj_;  // the inner list (first inner_ entries)
+  std::vector<std::int32_t> pi_, pj_;               // the list, sorted by pi_
+  std::vector<std::uint8_t> image_;                 // index into shift_ of each listed pair
+  std::vector<std::int32_t> ni_, nj_;               // the inner list (first inner_ entries)
   std::vector<std::uint8_t> nimage_;
   std::int64_t inner_ = 0;
   double inner_drift_ = 0, inner_skin_ = 0;

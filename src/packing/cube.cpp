@@ -162,8 +162,8 @@ CubeSample cut_cube(const Packing& packing, std::int64_t target_count, const Poi
   std::sort(sorted.begin(), sorted.end());
   CubeSample cube;
   // Half side halfway between the target_count-th and the next distance.
-  const double half = target_count < n ? 0.5 * (sorted[target_count - 1] + sorted[target_count])
-                                       : 0.5 * L;
+  const double half =
+      target_count < n ? 0.5 * (sorted[target_count - 1] + sorted[target_count]) : 0.5 * L;
   cube.side = 2.0 * half;
   cube.centre_in_box = centre;
   std::vector<char> inside(n, 0);

@@ -206,7 +206,8 @@ Packing make_packing(const PackingSpec& spec, const JammingProgress& progress) {
     }
     if (!(phi > 0.05 && phi < kDensest))
       throw NumericalError("packing: the compaction left the range of random packings "
-                           "(volume fraction " + str(phi) + ")");
+                           "(volume fraction " +
+                           str(phi) + ")");
     sys.set_fraction(phi);
   }
   sys.restore(jammed_state);

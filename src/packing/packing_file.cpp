@@ -17,18 +17,19 @@ std::string spheres_csv(const CubeSample& cube) {
   return text;
 }
 
-std::string spheres_json(const CubeSample& cube, const Packing& packing,
-                         const PackingSpec& spec, const Provenance& prov,
-                         const std::string& what, const std::string& file) {
+std::string spheres_json(const CubeSample& cube, const Packing& packing, const PackingSpec& spec,
+                         const Provenance& prov, const std::string& what, const std::string& file) {
   Summary s;
   s.add("file", file);
-  s.add("description", "lem_pack " + what + ": sphere centres x, y, z and radii, lengths in "
-                       "the units of d_min");
+  s.add("description", "lem_pack " + what +
+                           ": sphere centres x, y, z and radii, lengths in "
+                           "the units of d_min");
   s.add("seed", static_cast<long long>(spec.seed));
   s.add("d_min", spec.d_min);
   s.add("d_max", spec.d_max);
-  s.add("distribution", std::string(spec.distribution == SizeDistribution::uniform_volume
-                                        ? "uniform_volume" : "uniform_diameter"));
+  s.add("distribution",
+        std::string(spec.distribution == SizeDistribution::uniform_volume ? "uniform_volume"
+                                                                          : "uniform_diameter"));
   s.add("box_side", packing.box_side, "d_min");
   s.add("box_spheres", static_cast<long long>(packing.spheres.size()));
   s.add("box_volume_fraction", packing.stats.volume_fraction);

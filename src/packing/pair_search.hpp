@@ -60,8 +60,8 @@ void for_each_close_pair(const std::vector<double>& x, const std::vector<double>
   }
   // Half stencil: the 13 offsets that come first in (z, y, x) order are left
   // out, their pairs being found from the other cell.
-  static const int stencil[13][3] = {{1, 0, 0},  {-1, 1, 0}, {0, 1, 0},  {1, 1, 0},  {-1, -1, 1},
-                                     {0, -1, 1}, {1, -1, 1}, {-1, 0, 1}, {0, 0, 1},  {1, 0, 1},
+  static const int stencil[13][3] = {{1, 0, 0},  {-1, 1, 0}, {0, 1, 0},  {1, 1, 0}, {-1, -1, 1},
+                                     {0, -1, 1}, {1, -1, 1}, {-1, 0, 1}, {0, 0, 1}, {1, 0, 1},
                                      {-1, 1, 1}, {0, 1, 1},  {1, 1, 1}};
   auto wrap = [m](std::int64_t k) { return k < 0 ? k + m : (k >= m ? k - m : k); };
   for (std::int64_t cz = 0; cz < m; ++cz)

@@ -74,8 +74,8 @@ bool CriticalBonds::in_doubt(const std::vector<double>& tension) const {
   const DistributedLattice& l = lattice_;
   int mine = 0, any = 0;
   for (int b = 0; b < l.local_bonds() && band_ > 0 && !mine; ++b)
-    mine = l.bond_reported[b] && l.bond_stiffness[b] > 0 &&
-           lem::in_doubt(tension[b], level(b), band_);
+    mine =
+        l.bond_reported[b] && l.bond_stiffness[b] > 0 && lem::in_doubt(tension[b], level(b), band_);
   MPI_Allreduce(&mine, &any, 1, MPI_INT, MPI_MAX, l.comm);
   return any != 0;
 }
@@ -86,8 +86,7 @@ std::vector<Rupture> CriticalBonds::find(const std::vector<double>& tension) con
   for (int b = 0; b < l.local_bonds() && bad < 0; ++b)
     if (!std::isfinite(tension[b])) bad = l.bond_id[b];
   MPI_Allreduce(&bad, &worst, 1, MPI_INT64_T, MPI_MAX, l.comm);  // every rank decides alike
-  if (worst >= 0)
-    throw NumericalError("bond " + std::to_string(worst) + " has a non-finite force");
+  if (worst >= 0) throw NumericalError("bond " + std::to_string(worst) + " has a non-finite force");
   std::vector<Rupture> mine;
   for (int b = 0; b < l.local_bonds(); ++b) {
     if (!l.bond_reported[b] || l.bond_stiffness[b] <= 0) continue;

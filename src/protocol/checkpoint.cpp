@@ -41,9 +41,9 @@ void get(ByteReader& r, DamageHistory& h) {
 // then the check field if any), then an order-free checksum of the field
 // values (each rank sums the terms of its own nodes).
 struct Head {
-  std::uint64_t bytes = 0;             // where the fields start
+  std::uint64_t bytes = 0;  // where the fields start
   std::uint64_t displacement_values = 0, check_values = 0;
-  std::uint64_t field_checksum = 0;    // the last 8 bytes of the file
+  std::uint64_t field_checksum = 0;  // the last 8 bytes of the file
   std::uint64_t file_bytes() const { return bytes + 8 * (displacement_values + check_values) + 8; }
 };
 
@@ -87,13 +87,13 @@ void check_head_values(const Checkpoint& c, const Head& head, const std::string&
     refuse(std::to_string(head.displacement_values) + " displacement values for " +
            std::to_string(nodes) + " nodes");
   if (head.check_values != 0 && head.check_values != head.displacement_values)
-    refuse(std::to_string(head.check_values) + " check field values for " +
-           std::to_string(nodes) + " nodes");
+    refuse(std::to_string(head.check_values) + " check field values for " + std::to_string(nodes) +
+           " nodes");
   const FractureState& s = c.state;
   const FractureTally& t = s.tally;
-  for (const std::int64_t count : {t.steps, t.visited_steps, t.solves, t.iterations,
-                                   t.preconditioner_builds, t.rupture_steps, s.batches,
-                                   s.files.curve_bytes, s.files.broken_bytes})
+  for (const std::int64_t count :
+       {t.steps, t.visited_steps, t.solves, t.iterations, t.preconditioner_builds, t.rupture_steps,
+        s.batches, s.files.curve_bytes, s.files.broken_bytes})
     if (count < 0) refuse("a negative count in its state");
   const DamageHistory& h = c.damage;
   // Batches are numbered 1, 2, ... in order; builds follow batch 0 (the
@@ -111,9 +111,8 @@ void check_head_values(const Checkpoint& c, const Head& head, const std::string&
   check_batches(h.build_batches, 0, "preconditioner build");
   for (std::size_t k = 0; k < h.node_events.size(); ++k)
     if (h.node_events[k] < 0 || h.node_events[k] >= nodes)
-      refuse("node event " + std::to_string(k) + " pins node " +
-             std::to_string(h.node_events[k]) + ", not one of the " + std::to_string(nodes) +
-             " nodes");
+      refuse("node event " + std::to_string(k) + " pins node " + std::to_string(h.node_events[k]) +
+             ", not one of the " + std::to_string(nodes) + " nodes");
   std::vector<std::int64_t> bonds = h.bond_events;
   std::sort(bonds.begin(), bonds.end());
   if (!bonds.empty() && bonds.front() < 0)
@@ -126,13 +125,13 @@ void check_head_values(const Checkpoint& c, const Head& head, const std::string&
 // field checksum, checked against the file's size.
 std::vector<char> read_head(const std::string& path, const std::string& bad, Head& head) {
   if (const std::string what = not_a_regular_file(path); !what.empty())
-    throw InputError(bad + what + ", not a checkpoint lem wrote); remove it or pass "
+    throw InputError(bad + what +
+                     ", not a checkpoint lem wrote); remove it or pass "
                      "-checkpoint_resume false");
   std::FILE* f = std::fopen(path.c_str(), "rb");
   if (!f) throw InputError("cannot open the checkpoint '" + path + "'");
   const auto read_at = [&](std::uint64_t offset, void* to, std::size_t n) {
-    return std::fseek(f, static_cast<long>(offset), SEEK_SET) == 0 &&
-           std::fread(to, 1, n, f) == n;
+    return std::fseek(f, static_cast<long>(offset), SEEK_SET) == 0 && std::fread(to, 1, n, f) == n;
   };
   std::vector<char> bytes(sizeof(kCheckpointMagic) + 8);
   std::uint64_t body = 0;
@@ -144,7 +143,7 @@ std::vector<char> read_head(const std::string& path, const std::string& bad, Hea
   if (!ok || body > size) {
     std::fclose(f);
     throw InputError(bad + "wrong header or another version of the code); remove it or pass "
-                     "-checkpoint_resume false");
+                           "-checkpoint_resume false");
   }
   bytes.resize(bytes.size() + body + 8);
   ok = read_at(0, bytes.data(), bytes.size());
@@ -153,18 +152,19 @@ std::vector<char> read_head(const std::string& path, const std::string& bad, Hea
   if (!ok || fnv1a(bytes.data(), bytes.size() - 8) != stored) {
     std::fclose(f);
     throw InputError(bad + "checksum mismatch: truncated or corrupt); remove it or pass "
-                     "-checkpoint_resume false");
+                           "-checkpoint_resume false");
   }
   head.bytes = bytes.size();
   std::memcpy(&head.displacement_values, bytes.data() + bytes.size() - 24, 8);
   std::memcpy(&head.check_values, bytes.data() + bytes.size() - 16, 8);
-  const bool sized = head.displacement_values < size && head.check_values < size &&
-                     head.file_bytes() == size;
+  const bool sized =
+      head.displacement_values < size && head.check_values < size && head.file_bytes() == size;
   ok = sized && read_at(size - 8, &head.field_checksum, 8);
   std::fclose(f);
   if (!ok)
     throw InputError(bad + std::to_string(size) + " bytes where its head announces " +
-                     std::to_string(head.file_bytes()) + ": truncated or corrupt); remove it "
+                     std::to_string(head.file_bytes()) +
+                     ": truncated or corrupt); remove it "
                      "or pass -checkpoint_resume false");
   return bytes;
 }
@@ -207,7 +207,8 @@ class NodeRows {
     if (ids.empty()) {
       MPI_Type_dup(MPI_DOUBLE, &view_);
     } else {
-      MPI_Type_create_hindexed_block(static_cast<int>(ids.size()), 3, at.data(), MPI_DOUBLE, &view_);
+      MPI_Type_create_hindexed_block(static_cast<int>(ids.size()), 3, at.data(), MPI_DOUBLE,
+                                     &view_);
     }
     MPI_Type_commit(&view_);
   }
@@ -255,7 +256,9 @@ std::string transfer_error(int code, const MPI_Status& status, MPI_Datatype type
   return {};
 }
 
-std::string call_error(int code) { return code == MPI_SUCCESS ? std::string() : mpi_error_text(code); }
+std::string call_error(int code) {
+  return code == MPI_SUCCESS ? std::string() : mpi_error_text(code);
+}
 
 // Run one MPI-IO step on every rank (it returns why it failed, "" if it did
 // not); if it fails anywhere, every rank throws `Error(what: why)` of the
@@ -306,17 +309,18 @@ void write_checkpoint_file(MPI_Comm comm, const std::string& path, const Checkpo
   if (rank == 0) std::remove(tmp.c_str());  // a shorter file must not keep an old tail
   MPI_File file = MPI_FILE_NULL;
   io_step<IoError>(comm, failed + ": cannot create '" + tmp + "'", [&] {
-    return call_error(MPI_File_open(comm, tmp.c_str(), MPI_MODE_CREATE | MPI_MODE_WRONLY,
-                                    MPI_INFO_NULL, &file));
+    return call_error(
+        MPI_File_open(comm, tmp.c_str(), MPI_MODE_CREATE | MPI_MODE_WRONLY, MPI_INFO_NULL, &file));
   });
   try {
     io_step<IoError>(comm, failed + ": writing '" + tmp + "' failed", [&] {
       if (rank != 0) return std::string();
       const std::uint64_t end = head.size() + 8 * (values + (any_checked ? values : 0));
       MPI_Status status;
-      std::string why = transfer_error(
-          MPI_File_write_at(file, 0, head.data(), static_cast<int>(head.size()), MPI_BYTE, &status),
-          status, MPI_BYTE, head.size());
+      std::string why =
+          transfer_error(MPI_File_write_at(file, 0, head.data(), static_cast<int>(head.size()),
+                                           MPI_BYTE, &status),
+                         status, MPI_BYTE, head.size());
       if (why.empty())
         why = transfer_error(MPI_File_write_at(file, static_cast<MPI_Offset>(end), &total, 8,
                                                MPI_BYTE, &status),
@@ -328,8 +332,8 @@ void write_checkpoint_file(MPI_Comm comm, const std::string& path, const Checkpo
       const std::vector<double> sorted = rows.sorted(owned);
       io_step<IoError>(comm, failed + ": writing '" + tmp + "' failed", [&] {
         const auto start = static_cast<MPI_Offset>(head.size() + 8 * field * values);
-        const int code = MPI_File_set_view(file, start, MPI_DOUBLE, rows.view(), "native",
-                                           MPI_INFO_NULL);
+        const int code =
+            MPI_File_set_view(file, start, MPI_DOUBLE, rows.view(), "native", MPI_INFO_NULL);
         if (code != MPI_SUCCESS) return mpi_error_text(code);
         MPI_Status status;
         return transfer_error(MPI_File_write_all(file, sorted.data(),
@@ -388,9 +392,8 @@ Checkpoint read_checkpoint_file(MPI_Comm comm, const std::string& path,
           MPI_File_set_view(file, start, MPI_DOUBLE, rows.view(), "native", MPI_INFO_NULL);
       if (code != MPI_SUCCESS) return mpi_error_text(code);
       MPI_Status status;
-      return transfer_error(MPI_File_read_all(file, sorted.data(),
-                                              static_cast<int>(sorted.size()), MPI_DOUBLE,
-                                              &status),
+      return transfer_error(MPI_File_read_all(file, sorted.data(), static_cast<int>(sorted.size()),
+                                              MPI_DOUBLE, &status),
                             status, MPI_DOUBLE, sorted.size());
     });
     return rows.unsorted(sorted);
@@ -410,7 +413,7 @@ Checkpoint read_checkpoint_file(MPI_Comm comm, const std::string& path,
   MPI_Allreduce(&sum, &total, 1, MPI_UINT64_T, MPI_SUM, comm);
   if (total != head.field_checksum)
     throw InputError(bad + "checksum mismatch: corrupt); remove it or pass "
-                     "-checkpoint_resume false");
+                           "-checkpoint_resume false");
   // The lowest non-finite value of each field, by its index in the file.
   std::uint64_t lowest[2] = {UINT64_MAX, UINT64_MAX}, global[2];
   for (std::size_t n = 0; n < ids.size(); ++n)
@@ -424,7 +427,8 @@ Checkpoint read_checkpoint_file(MPI_Comm comm, const std::string& path,
   for (int field = 0; field < 2; ++field)
     if (global[field] != UINT64_MAX)
       throw InputError(bad + (field == 0 ? "displacement " : "check field value ") +
-                       std::to_string(global[field]) + " is not finite); remove it or pass "
+                       std::to_string(global[field]) +
+                       " is not finite); remove it or pass "
                        "-checkpoint_resume false");
   return c;
 }
@@ -451,8 +455,11 @@ Checkpoint CheckpointStore::load() const {
     const FingerprintDifference d =
         compare_fingerprints(theirs.fingerprint, fingerprint_, "checkpoint", true);
     if (!d.differs.empty())
-      throw InputError("the checkpoint '" + path_ + "' belongs to a different run "
-                       "(sample or options):" + d.differs + "\nresume with the same command, or "
+      throw InputError("the checkpoint '" + path_ +
+                       "' belongs to a different run "
+                       "(sample or options):" +
+                       d.differs +
+                       "\nresume with the same command, or "
                        "pass -checkpoint_resume false to start over");
     other_ranks = d.other_ranks;
     solver_changes = d.solver_changes;
@@ -462,13 +469,15 @@ Checkpoint CheckpointStore::load() const {
   if (!solver_changes.empty())
     say("resuming a checkpoint written with other solver options:%s\nthe rest of the run is "
         "solved with this run's, so it agrees with an uninterrupted one to the solver "
-        "tolerance, not bit for bit\n", solver_changes.c_str());
+        "tolerance, not bit for bit\n",
+        solver_changes.c_str());
   if (other_ranks > 0) {
     int ranks = 1;
     MPI_Comm_size(l.comm, &ranks);
     say("resuming a checkpoint written on %d ranks on %d: the preconditioner differs, so the "
         "rest of the run agrees with an uninterrupted one to the solver tolerance, not bit for "
-        "bit\n", other_ranks, ranks);
+        "bit\n",
+        other_ranks, ranks);
   }
   return c;
 }
@@ -476,8 +485,7 @@ Checkpoint CheckpointStore::load() const {
 void CheckpointStore::hold(const FractureState& state, std::string relaxation_state,
                            const DamageMark& damage, std::vector<double> owned_u,
                            std::vector<double> owned_check) {
-  held_ = {state, std::move(relaxation_state), damage, std::move(owned_u),
-           std::move(owned_check)};
+  held_ = {state, std::move(relaxation_state), damage, std::move(owned_u), std::move(owned_check)};
 }
 
 void CheckpointStore::save(const DamageLedger& ledger) const {

@@ -108,8 +108,7 @@ void DamageLedger::replay(DamageHistory h, std::int64_t batches) {
 }
 
 DamageMark DamageLedger::mark() const {
-  return {history_.bond_events.size(), history_.node_events.size(),
-          history_.build_batches.size()};
+  return {history_.bond_events.size(), history_.node_events.size(), history_.build_batches.size()};
 }
 
 DamageHistory DamageLedger::prefix(const DamageMark& m) const {
@@ -117,9 +116,8 @@ DamageHistory DamageLedger::prefix(const DamageMark& m) const {
     return std::vector<std::int64_t>(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(n));
   };
   const DamageHistory& h = history_;
-  return {head(h.bond_events, m.bonds), head(h.bond_batches, m.bonds),
-          head(h.node_events, m.nodes), head(h.node_batches, m.nodes),
-          head(h.build_batches, m.builds)};
+  return {head(h.bond_events, m.bonds), head(h.bond_batches, m.bonds), head(h.node_events, m.nodes),
+          head(h.node_batches, m.nodes), head(h.build_batches, m.builds)};
 }
 
 }  // namespace lem

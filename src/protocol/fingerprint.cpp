@@ -51,7 +51,10 @@ std::string lattice_fingerprint(const DistributedLattice& l) {
   ExactSum stiffness, strength;
   double large[2] = {0, 0}, large_total[2] = {0, 0};
   const auto add = [&](ExactSum& sum, double& beside, double x) {
-    if (std::fabs(x) < 1e9) sum.add(x); else beside += x;
+    if (std::fabs(x) < 1e9)
+      sum.add(x);
+    else
+      beside += x;
   };
   for (int b = 0; b < l.local_bonds(); ++b) {
     if (!l.bond_reported[b]) continue;
@@ -82,19 +85,18 @@ std::string fracture_fingerprint(const DistributedLattice& l, const FractureOpti
   MPI_Comm_size(l.comm, &ranks);
   std::ostringstream s;
   s.precision(17);
-  s << "ranks=" << ranks << "\n" << lattice_fingerprint(l) << "increment=" << o.increment
-    << "\nbreak_rule=" << o.break_rule << "\nskip_idle=" << o.skip_idle
-    << "\npc_rebuild_ruptures=" << o.rebuild_after_ruptures
-    << "\npc_rebuild_growth=" << o.rebuild_iteration_growth
-    << "\nrelaxation=" << o.relaxation << "\n";
+  s << "ranks=" << ranks << "\n"
+    << lattice_fingerprint(l) << "increment=" << o.increment << "\nbreak_rule=" << o.break_rule
+    << "\nskip_idle=" << o.skip_idle << "\npc_rebuild_ruptures=" << o.rebuild_after_ruptures
+    << "\npc_rebuild_growth=" << o.rebuild_iteration_growth << "\nrelaxation=" << o.relaxation
+    << "\n";
   const RelaxationEntry& scheme = relaxation_named(o.relaxation);
   if (scheme.fingerprint) s << scheme.fingerprint();
   s << "decision_safety=" << o.decision_safety << "\ndecision_interval=" << o.decision_interval
     << "\ndecided_closing=" << o.decided_closing << "\ntie_band=" << o.tie_band
     << "\ntie_rtol=" << o.tie_rtol << "\n";
   if (scope == FingerprintScope::calibration)
-    s << "stop_fraction=" << o.stop_fraction << "\nstop_within_step=" << o.stop_within_step
-      << "\n";
+    s << "stop_fraction=" << o.stop_fraction << "\nstop_within_step=" << o.stop_within_step << "\n";
   std::istringstream options(option_lines(kAllOptionKinds));
   for (std::string line; std::getline(options, line);)
     if (!left_out(line, scope)) s << line << "\n";

@@ -41,16 +41,26 @@ class Protocol {
  public:
   Protocol(DistributedLattice& l, ElasticSystem& s, const FractureOptions& o,
            const FractureOutput& out, const Provenance& provenance)
-      : l_(l), system_(s), o_(o), out_(out), rule_(break_rule_named(o.break_rule).make()),
+      : l_(l),
+        system_(s),
+        o_(o),
+        out_(out),
+        rule_(break_rule_named(o.break_rule).make()),
         critical_(l, *rule_, o.tie_band * s.rtol()),
         ledger_(l, s),
         solver_(s, ledger_, {o.rebuild_after_ruptures, o.rebuild_iteration_growth},
                 state_.preconditioner, state_.tally),
-        recorder_(l, s, out, provenance), progress_(o, out),
-        relaxation_(relaxation_named(o.relaxation).make(RelaxationParts{
-            l, s, o, critical_, ledger_, solver_, recorder_, progress_, clock_, state_.tally,
-            [this](std::int64_t step, int cycles) { stop_between_cycles(step, cycles); },
-            [this](double stress) { return needs_equilibrium(stress); }})),
+        recorder_(l, s, out, provenance),
+        progress_(o, out),
+        relaxation_(relaxation_named(o.relaxation)
+                        .make(RelaxationParts{l, s, o, critical_, ledger_, solver_, recorder_,
+                                              progress_, clock_, state_.tally,
+                                              [this](std::int64_t step, int cycles) {
+                                                stop_between_cycles(step, cycles);
+                                              },
+                                              [this](double stress) {
+                                                return needs_equilibrium(stress);
+                                              }})),
         checkpoint_(l, checkpoint_path(out.dir),
                     fracture_fingerprint(l, o, FingerprintScope::checkpoint)),
         warnings_(o, out.dir) {}
@@ -109,8 +119,11 @@ void Protocol::resume() {
   try {
     relaxation_->restore_state(c.relaxation_state);
   } catch (const std::runtime_error& e) {
-    throw InputError("the checkpoint '" + checkpoint_.path() + "' does not fit the relaxation "
-                     "scheme '" + o_.relaxation + "' (" + e.what() + "); remove it or pass "
+    throw InputError("the checkpoint '" + checkpoint_.path() +
+                     "' does not fit the relaxation "
+                     "scheme '" +
+                     o_.relaxation + "' (" + e.what() +
+                     "); remove it or pass "
                      "-checkpoint_resume false");
   }
 }
@@ -296,16 +309,19 @@ FractureResult Protocol::run() {
       save_checkpoint();
       throw NumericalError(std::string(e.what()) + "; the state of step " +
                            std::to_string(checkpoint_.held_state().tally.steps) + " is saved in " +
-                           checkpoint_.path() + ": rerun (e.g. with other -ksp_/-pc_ options) "
+                           checkpoint_.path() +
+                           ": rerun (e.g. with other -ksp_/-pc_ options) "
                            "to resume from it");
     } catch (const StopInRelaxation& stop) {
       save_checkpoint();
       throw Interrupted("stopped by " + signal_name(stop.signal) + " in the relaxation of step " +
                         std::to_string(stop.step) + " after " + std::to_string(stop.cycles) +
                         (stop.cycles == 1 ? " cycle" : " cycles") + "; the equilibrium of step " +
-                        std::to_string(checkpoint_.held_state().tally.steps) +
-                        " is saved in " + checkpoint_.path() + ": run the same command again "
-                        "to resume (step " + std::to_string(stop.step) + " is computed again)");
+                        std::to_string(checkpoint_.held_state().tally.steps) + " is saved in " +
+                        checkpoint_.path() +
+                        ": run the same command again "
+                        "to resume (step " +
+                        std::to_string(stop.step) + " is computed again)");
     }
   }
   fault_pause(l_.comm, "fracture_end", "after the last load step");
@@ -322,10 +338,10 @@ FractureResult Protocol::run() {
   result.ground_energy = r.ground_energy;
   // W = E + G + R where every solve converged: what is left is the solver's.
   result.energy_balance_error =
-      tally_.work > 0 ? std::fabs(tally_.work - r.stored_energy - r.ground_energy -
-                                  tally_.released_energy) /
-                            tally_.work
-                      : 0.0;
+      tally_.work > 0
+          ? std::fabs(tally_.work - r.stored_energy - r.ground_energy - tally_.released_energy) /
+                tally_.work
+          : 0.0;
   // Before the logs are renamed: under -fracture_strict a warning leaves no
   // result that looks finished.
   result.peak_step = tally_.strain_at_peak / strain_of(1);

@@ -30,18 +30,24 @@ RelaxationEntry local_relaxation_entry() {
   };
   e.read_options = [options](OptionGroup& g) {
     LocalRelaxationOptions& o = *options;
-    o.radius = g.real("-fracture_patch_radius", "local: a patch holds the nodes within this "
+    o.radius = g.real("-fracture_patch_radius",
+                      "local: a patch holds the nodes within this "
                       "many mean bond lengths a of the ruptures since the last global "
-                      "equilibrium", o.radius, 1.0, 100.0);
-    o.margin = g.real("-fracture_patch_margin", "local: a patch field breaks a bond only when "
+                      "equilibrium",
+                      o.radius, 1.0, 100.0);
+    o.margin = g.real("-fracture_patch_margin",
+                      "local: a patch field breaks a bond only when "
                       "its force exceeds (1 + margin) times its threshold (margin: a bound on "
                       "the patch error); nearer bonds wait for the global solve",
                       o.margin, 0.0, 10.0, true);
-    o.max_fraction = g.real("-fracture_patch_max_fraction", "local: a patch with more than "
+    o.max_fraction = g.real("-fracture_patch_max_fraction",
+                            "local: a patch with more than "
                             "this fraction of the free nodes is solved globally",
                             o.max_fraction, 0.0, 1.0, true);
-    o.rtol = g.real("-fracture_patch_rtol", "local: relative tolerance of the patch solves "
-                    "(CG, options prefix -patch_)", o.rtol, 0.0, 0.1, true);
+    o.rtol = g.real("-fracture_patch_rtol",
+                    "local: relative tolerance of the patch solves "
+                    "(CG, options prefix -patch_)",
+                    o.rtol, 0.0, 0.1, true);
   };
   e.fingerprint = [options] {
     std::ostringstream s;
@@ -165,8 +171,8 @@ void LocalRelaxation::check_patch_error(std::int64_t step,
   }
 }
 
-RelaxationOutcome LocalRelaxation::relax(std::int64_t step, double top_displacement,
-                                         double strain, double /*stress_before*/) {
+RelaxationOutcome LocalRelaxation::relax(std::int64_t step, double top_displacement, double strain,
+                                         double /*stress_before*/) {
   RelaxationOutcome out;
   for (;;) {
     next_cycle(step, out);

@@ -54,7 +54,8 @@ void FractureRecorder::Stream::check() {
   // stdio's error flag is sticky: it also catches a failed implicit flush.
   if (file && error.empty() && std::ferror(file.get())) error = "a write failed";
   if (!error.empty())
-    throw IoError("cannot write '" + part() + "': " + error + " (the results are incomplete; "
+    throw IoError("cannot write '" + part() + "': " + error +
+                  " (the results are incomplete; "
                   "nothing was renamed)");
 }
 
@@ -191,8 +192,8 @@ void FractureRecorder::open_new() {
 void FractureRecorder::reopen(const ResultFileMarks& marks) {
   run_on_root(lattice_.comm, [&] {
     namespace fs = std::filesystem;
-    for (auto [stream, size] : {std::pair{&curve_, marks.curve_bytes},
-                                std::pair{&broken_, marks.broken_bytes}}) {
+    for (auto [stream, size] :
+         {std::pair{&curve_, marks.curve_bytes}, std::pair{&broken_, marks.broken_bytes}}) {
       const std::string part = stream->part(), final_path = stream->final_path;
       std::error_code ec;
       // A run killed after renaming its logs but before committing them
@@ -210,7 +211,8 @@ void FractureRecorder::reopen(const ResultFileMarks& marks) {
       // Padding it would put NUL bytes in the results.
       if (static_cast<std::int64_t>(actual) < size)
         throw InputError("cannot resume: '" + part + "' has " + std::to_string(actual) +
-                         " bytes, fewer than the " + std::to_string(size) + " the checkpoint "
+                         " bytes, fewer than the " + std::to_string(size) +
+                         " the checkpoint "
                          "records (damaged or replaced); remove the checkpoint to start over");
       // Drop the rows written after the checkpoint.
       if (::truncate(part.c_str(), static_cast<off_t>(size)) != 0)
@@ -229,9 +231,8 @@ void FractureRecorder::reopen(const ResultFileMarks& marks) {
   });
 }
 
-void FractureRecorder::curve_row(std::int64_t step, const TensionResponse& r,
-                                 double stress_before, int cycles, bool idle,
-                                 const FractureTally& t, double elapsed) {
+void FractureRecorder::curve_row(std::int64_t step, const TensionResponse& r, double stress_before,
+                                 int cycles, bool idle, const FractureTally& t, double elapsed) {
   if (rank_ != 0) return;
   const double su = output_.stress_unit, norm = su / output_.strength_unit;
   curve_.print("%lld,%.12e,%.12e,%.12e,%.12e,%.12e,%lld,%lld,%lld,%lld,%lld,%.6f,%d,%lld,%lld,"
@@ -249,8 +250,7 @@ void FractureRecorder::curve_row(std::int64_t step, const TensionResponse& r,
 void FractureRecorder::rupture(std::int64_t step, int cycle, double strain, const Rupture& x) {
   if (rank_ != 0) return;
   broken_.print("%lld,%d,%.12e,%lld,%s,%.9g,%.9g,%.9g,%.12e,%.12e\n", (long long)step, cycle,
-                strain, (long long)x.id, kPhaseNames[x.phase], x.x, x.y, x.z, x.force,
-                x.threshold);
+                strain, (long long)x.id, kPhaseNames[x.phase], x.x, x.y, x.z, x.force, x.threshold);
 }
 
 void FractureRecorder::flush_ruptures() {

@@ -30,11 +30,11 @@ std::vector<RelaxationEntry>& scheme_table() {
 
 template <class Entry>
 void add(std::vector<Entry>& table, Entry entry, const char* kind) {
-  const bool taken = std::any_of(table.begin(), table.end(),
-                                 [&](const Entry& e) { return e.name == entry.name; });
+  const bool taken =
+      std::any_of(table.begin(), table.end(), [&](const Entry& e) { return e.name == entry.name; });
   if (entry.name.empty() || taken || !entry.make)
-    throw std::invalid_argument(std::string(kind) + " '" + entry.name + "': " +
-                                (taken ? "the name is taken" : "no name or no factory"));
+    throw std::invalid_argument(std::string(kind) + " '" + entry.name +
+                                "': " + (taken ? "the name is taken" : "no name or no factory"));
   table.push_back(std::move(entry));
 }
 
@@ -50,7 +50,9 @@ const Entry& named(const std::vector<Entry>& table, const std::string& name, con
 const std::vector<BreakRuleEntry>& break_rules() { return rule_table(); }
 const std::vector<RelaxationEntry>& relaxation_schemes() { return scheme_table(); }
 
-void register_break_rule(BreakRuleEntry entry) { add(rule_table(), std::move(entry), "break rule"); }
+void register_break_rule(BreakRuleEntry entry) {
+  add(rule_table(), std::move(entry), "break rule");
+}
 void register_relaxation(RelaxationEntry entry) {
   add(scheme_table(), std::move(entry), "relaxation scheme");
 }

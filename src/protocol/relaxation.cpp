@@ -206,8 +206,8 @@ void Relaxation::next_cycle(std::int64_t step, const RelaxationOutcome& out) con
   if (out.cycles > 0 && p_.between_cycles) p_.between_cycles(step, out.cycles);
 }
 
-RelaxationOutcome GlobalRelaxation::relax(std::int64_t step, double top_displacement,
-                                          double strain, double /*stress_before*/) {
+RelaxationOutcome GlobalRelaxation::relax(std::int64_t step, double top_displacement, double strain,
+                                          double /*stress_before*/) {
   RelaxationOutcome out;
   for (;;) {
     next_cycle(step, out);
@@ -216,8 +216,8 @@ RelaxationOutcome GlobalRelaxation::relax(std::int64_t step, double top_displace
     if (critical.empty()) break;
     const bool joined = break_batch(critical, step, out.cycles, strain);
     // The run ends after a disconnecting batch: solve it to -ksp_rtol.
-    const SolveReport solved = joined ? solve_for_decision(top_displacement)
-                                      : p_.solver.solve(top_displacement, true);
+    const SolveReport solved =
+        joined ? solve_for_decision(top_displacement) : p_.solver.solve(top_displacement, true);
     note_batch(step, critical, out);
     if (!joined) {
       out.disconnected = true;

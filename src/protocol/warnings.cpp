@@ -34,7 +34,8 @@ void RunWarnings::after_step(const FractureTally& tally) {
   if (tally.fallback_solves == 0 || fallback_said_) return;
   fallback_said_ = true;
   const std::string message =
-      "a solve at step " + std::to_string(tally.steps) + " failed twice with the multigrid "
+      "a solve at step " + std::to_string(tally.steps) +
+      " failed twice with the multigrid "
       "solver and was finished by the fallback solver (CG + Jacobi, slow); check -ksp_max_it, "
       "-ksp_rtol, -ksp_type and the -pc_* options";
   // Strict: thrown within the load step, so the run keeps the checkpoint of
@@ -44,8 +45,8 @@ void RunWarnings::after_step(const FractureTally& tally) {
   print("fallback_solver", dir_, message + " (the count follows at the end)");
 }
 
-void RunWarnings::at_end(const FractureTally& tally, double energy_balance_error,
-                         double peak_step, bool past_peak) {
+void RunWarnings::at_end(const FractureTally& tally, double energy_balance_error, double peak_step,
+                         bool past_peak) {
   char text[512];
   if (options_.warn_energy_error > 0 && !(energy_balance_error <= options_.warn_energy_error)) {
     std::snprintf(text, sizeof(text),

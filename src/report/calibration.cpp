@@ -42,7 +42,8 @@ std::optional<Calibration> read_calibration(MPI_Comm comm, const std::string& pa
   Calibration c;
   run_on_root(comm, [&] {
     if (const std::string what = not_a_regular_file(path); !what.empty())
-      throw InputError("the calibration file '" + path + "' is " + what + ", not a file "
+      throw InputError("the calibration file '" + path + "' is " + what +
+                       ", not a file "
                        "lem wrote; remove it, or pass another -fracture_calibration_file");
     std::ifstream in(path);
     if (!in) return;
@@ -67,7 +68,8 @@ std::optional<Calibration> read_calibration(MPI_Comm comm, const std::string& pa
       }
     }
     if (!have_sigma || !have_e || !(c.sigma_hom > 0) || !(c.e_hom > 0))
-      throw InputError("the calibration file '" + path + "' is damaged (no positive sigma_hom "
+      throw InputError("the calibration file '" + path +
+                       "' is damaged (no positive sigma_hom "
                        "and E_hom); remove it to calibrate again");
     // A value edited by hand would change every normalised stress silently.
     const std::string actual = text_checksum(content);
@@ -77,17 +79,21 @@ std::optional<Calibration> read_calibration(MPI_Comm comm, const std::string& pa
       values << "sigma_hom=" << c.sigma_hom << ", E_hom=" << c.e_hom;
       throw InputError("the calibration file '" + path + "' is not as it was written: " +
                        (checksum.empty() ? "it has no checksum line (" + actual + " now)"
-                                         : "its content (" + values.str() + ") has the "
-                                           "checksum " + actual + ", the file says " +
-                                           checksum) +
+                                         : "its content (" + values.str() +
+                                               ") has the "
+                                               "checksum " +
+                                               actual + ", the file says " + checksum) +
                        "; remove it to calibrate again (the next run computes and stores "
                        "sigma^[p] and E^[p] anew)");
     }
     const std::string differs =
         compare_fingerprints(stored, without_ranks(fingerprint), "file").differs;
     if (!differs.empty())
-      throw InputError("the calibration file '" + path + "' was made for another lattice or "
-                       "other options:" + differs + "\npass the calibration file of this sample, "
+      throw InputError("the calibration file '" + path +
+                       "' was made for another lattice or "
+                       "other options:" +
+                       differs +
+                       "\npass the calibration file of this sample, "
                        "or remove it to calibrate again");
     found = 1;
     // The code that made it is not part of the key: say which it was.
@@ -114,8 +120,7 @@ void write_calibration(MPI_Comm comm, const std::string& path, const std::string
     out << "# sigma^[p] and E^[p] of the homogeneous lattice (paper sect. 3), E^phase units;\n"
         << "# written by " << provenance.program << " " << provenance.version << " ("
         << provenance.git_hash << ") on " << provenance.ranks
-        << (provenance.ranks == 1 ? " rank, " : " ranks, ")
-        << iso8601_utc_now() << "\n"
+        << (provenance.ranks == 1 ? " rank, " : " ranks, ") << iso8601_utc_now() << "\n"
         << "sigma_hom=" << c.sigma_hom << "\nE_hom=" << c.e_hom << "\n";
     for (const auto& w : c.warnings) out << kWarningLine << w << "\n";
     std::istringstream in(without_ranks(fingerprint));

@@ -5,8 +5,8 @@
 
 namespace lem {
 
-Summary tension_summary(const SetupReport& setup, const DistributedLattice& lattice,
-                        double bond_k, const TensionResponse& r, const SolveReport& solve) {
+Summary tension_summary(const SetupReport& setup, const DistributedLattice& lattice, double bond_k,
+                        const TensionResponse& r, const SolveReport& solve) {
   const double a = lattice.mean_bond_length;
   const double unit = bond_k / a;  // modulus unit k/a (paper sect. 2.2)
   const auto& s = setup.sample;

@@ -96,9 +96,8 @@ Case run_case(Prepared p, const SolverOptions& solver, const FractureOptions& op
 // A checkpoint that the protocol will resume from (rank 0 decides).
 bool resumable(MPI_Comm comm, const FractureOptions& options, const std::string& dir) {
   bool found = false;
-  run_on_root(comm, [&] {
-    found = options.resume && std::filesystem::exists(checkpoint_path(dir));
-  });
+  run_on_root(comm,
+              [&] { found = options.resume && std::filesystem::exists(checkpoint_path(dir)); });
   broadcast_value(comm, found);
   return found;
 }
@@ -119,26 +118,25 @@ void keep_stored_warnings(const Calibration& stored, const std::string& path, bo
   for (const auto& w : stored.warnings) words += (words.empty() ? "" : ", ") + w;
   if (strict)
     throw NumericalError("the calibration in '" + path + "' was made by a run with warnings (" +
-                         words + "), an error under -fracture_strict; remove it to calibrate "
+                         words +
+                         "), an error under -fracture_strict; remove it to calibrate "
                          "again under -fracture_strict");
   say_warning("warning [calibration] %s carries the warnings of the run that made it: %s\n",
               path.c_str(), words.c_str());
   for (const auto& w : stored.warnings) {
     const std::size_t colon = w.rfind(':');
-    warnings.push_back({w.substr(0, colon),
-                        colon == std::string::npos ? 1 : std::atoll(w.c_str() + colon + 1)});
+    warnings.push_back(
+        {w.substr(0, colon), colon == std::string::npos ? 1 : std::atoll(w.c_str() + colon + 1)});
   }
 }
 
 // sigma^[p] and E^[p]: from the calibration file of this lattice if there is
 // one, else by breaking the homogeneous lattice (and stored for next time);
 // the warnings of a calibration run go to `warnings`.
-Calibration calibrate(MPI_Comm comm, const SampleOptions& sample,
-                           const SolverOptions& solver, double break_strain,
-                           const FractureOptions& options, const std::string& dir,
-                           std::string path,
-                           const Provenance& provenance,
-                           std::vector<RunWarning>& warnings) {
+Calibration calibrate(MPI_Comm comm, const SampleOptions& sample, const SolverOptions& solver,
+                      double break_strain, const FractureOptions& options, const std::string& dir,
+                      std::string path, const Provenance& provenance,
+                      std::vector<RunWarning>& warnings) {
   SampleOptions hom = sample;
   hom.homogeneous = true;
   FractureOptions hom_options = options;
@@ -161,20 +159,19 @@ Calibration calibrate(MPI_Comm comm, const SampleOptions& sample,
     path = std::filesystem::path(sample.sample_file).replace_extension().string() +
            ".calibration-" + calibration_key(fingerprint) + ".txt";
   if (const auto stored = read_calibration(comm, path, fingerprint)) {
-    say("calibration: sigma^[p] = %.6g, E^[p] = %.6g (E^phase units) from %s\n",
-             stored->sigma_hom, stored->e_hom, path.c_str());
+    say("calibration: sigma^[p] = %.6g, E^[p] = %.6g (E^phase units) from %s\n", stored->sigma_hom,
+        stored->e_hom, path.c_str());
     keep_stored_warnings(*stored, path, options.strict, warnings);
     return *stored;
   }
   // A calibration stopped by a signal resumes from its checkpoint, whose
   // logs may already carry their final names.
   prepare_output_dir(comm, hom_output.dir,
-                          resumable(comm, hom_options, hom_output.dir) ? std::vector<std::string>{}
-                                                       : std::vector<std::string>{"curve.csv",
-                                                                                  "curve.json",
-                                                                                  "broken.csv"});
+                     resumable(comm, hom_options, hom_output.dir)
+                         ? std::vector<std::string>{}
+                         : std::vector<std::string>{"curve.csv", "curve.json", "broken.csv"});
   say("calibration: the homogeneous lattice (every bond E^p = %g, sigma^p = %g)\n",
-           sample.phases.modulus[0], sample.phases.strength[0]);
+      sample.phases.modulus[0], sample.phases.strength[0]);
   Case hom_case;
   try {
     hom_case = run_case(std::move(p), solver, hom_options, hom_output, provenance, false, false);
@@ -189,13 +186,13 @@ Calibration calibrate(MPI_Comm comm, const SampleOptions& sample,
   const FractureResult& r = hom_case.result;
   if (!r.past_peak()) {
     std::ostringstream why;
-    why << "the calibration of sigma^[p] reached no peak: it ended at load step " << r.steps
-        << " (" << r.end_reason << ") with " << r.broken_total() << " bonds broken and the "
+    why << "the calibration of sigma^[p] reached no peak: it ended at load step " << r.steps << " ("
+        << r.end_reason << ") with " << r.broken_total() << " bonds broken and the "
         << "stress " << (r.final_stress < r.peak_stress ? "below" : "at") << " its largest value, "
         << r.peak_stress * hom_case.stress_unit << " E^phase; load steps of -fracture_increment "
         << "= " << options.increment << " a do not reach the strength of the homogeneous lattice "
-        << "(-phase_sigma_p = " << sample.phases.strength[0] << ") within "
-        << hom_options.max_steps << " steps: raise -fracture_increment (the paper's is "
+        << "(-phase_sigma_p = " << sample.phases.strength[0] << ") within " << hom_options.max_steps
+        << " steps: raise -fracture_increment (the paper's is "
         << "3e-4), or check -phase_sigma_p. Nothing was stored";
     throw InputError(why.str());
   }
@@ -203,8 +200,7 @@ Calibration calibrate(MPI_Comm comm, const SampleOptions& sample,
   c.sigma_hom = hom_case.result.peak_stress * hom_case.stress_unit;
   c.e_hom = hom_case.result.young_modulus * hom_case.stress_unit;
   c.warnings = warning_words(warnings);
-  say("calibration: sigma^[p] = %.6g, E^[p] = %.6g (E^phase units)\n", c.sigma_hom,
-           c.e_hom);
+  say("calibration: sigma^[p] = %.6g, E^[p] = %.6g (E^phase units)\n", c.sigma_hom, c.e_hom);
   std::string stored = "stored in " + path;
   try {
     write_calibration(comm, path, fingerprint, c, provenance);
@@ -216,9 +212,12 @@ Calibration calibrate(MPI_Comm comm, const SampleOptions& sample,
   }
   // A request that came while the calibration ended: stop before the sample.
   if (const int signal = stop_requested(comm, "calibration_done"))
-    throw Interrupted("stopped by " + signal_name(signal) + " after the calibration: "
-                           "sigma^[p] and E^[p] " + stored + "; run the same command again "
-                           "to break the sample");
+    throw Interrupted("stopped by " + signal_name(signal) +
+                      " after the calibration: "
+                      "sigma^[p] and E^[p] " +
+                      stored +
+                      "; run the same command again "
+                      "to break the sample");
   return c;
 }
 
@@ -230,16 +229,20 @@ void normalise(FractureOutput& o, const FractureRunOptions& run, const Calibrati
                const SampleOptions& sample) {
   const bool from_file = !sample.sample_file.empty();
   const double e_p = sample.phases.modulus[0], s_p = sample.phases.strength[0];
-  o.strength_unit = run.sigma_unit > 0 ? run.sigma_unit : c.sigma_hom > 0 ? c.sigma_hom
-                                                        : from_file ? s_p : 1.0;
-  o.modulus_unit = run.modulus_unit > 0 ? run.modulus_unit : c.e_hom > 0 ? c.e_hom
-                                                           : from_file ? e_p : 1.0;
+  o.strength_unit = run.sigma_unit > 0 ? run.sigma_unit
+                    : c.sigma_hom > 0  ? c.sigma_hom
+                    : from_file        ? s_p
+                                       : 1.0;
+  o.modulus_unit = run.modulus_unit > 0 ? run.modulus_unit
+                   : c.e_hom > 0        ? c.e_hom
+                   : from_file          ? e_p
+                                        : 1.0;
 }
 
 // summary.json / summary.csv of a finished run.
 Summary fracture_summary(MPI_Comm comm, const SampleOptions& sample, const FractureOptions& o,
-                         const FractureOutput& units, const Calibration& calibration,
-                         const Case& c, const std::vector<std::string>& warnings) {
+                         const FractureOutput& units, const Calibration& calibration, const Case& c,
+                         const std::vector<std::string>& warnings) {
   const FractureResult& r = c.result;
   const double e_eff = r.young_modulus * c.stress_unit, s_eff = r.peak_stress * c.stress_unit;
   Summary s;
@@ -330,49 +333,64 @@ Summary fracture_summary(MPI_Comm comm, const SampleOptions& sample, const Fract
 FractureRunOptions read_fracture_run_options(MPI_Comm comm) {
   FractureRunOptions o;
   OptionGroup g(comm, "Fracture run and output");
-  o.break_strain = g.real("-lattice_break_strain", "Generated lattices: a bond breaks when "
+  o.break_strain = g.real("-lattice_break_strain",
+                          "Generated lattices: a bond breaks when "
                           "stretched by this fraction of the mean bond length (f = k a eps)",
                           1e-3, 0.0, 1.0, true);
-  o.calibrate = g.flag("-fracture_calibrate", "Sample files: first break the homogeneous "
+  o.calibrate = g.flag("-fracture_calibrate",
+                       "Sample files: first break the homogeneous "
                        "lattice of particle bonds to measure sigma^[p] and E^[p] (paper "
-                       "sect. 3), written to <output_dir>/calibration/", true);
-  o.calibration_file = g.string("-fracture_calibration_file", "Sample files: where sigma^[p] "
+                       "sect. 3), written to <output_dir>/calibration/",
+                       true);
+  o.calibration_file = g.string("-fracture_calibration_file",
+                                "Sample files: where sigma^[p] "
                                 "and E^[p] are kept (read if it exists and belongs to this "
                                 "lattice and these options; written after calibrating); "
                                 "default: beside the sample file, named by a hash of both",
                                 "");
-  o.sigma_unit = g.real("-fracture_sigma_unit", "Normalise stresses by this value instead "
+  o.sigma_unit = g.real("-fracture_sigma_unit",
+                        "Normalise stresses by this value instead "
                         "(E^phase units; e.g. sigma^[p] from an earlier calibration; 0: "
-                        "calibrate or use sigma^p)", 0.0, 0.0, 1e12);
-  o.modulus_unit = g.real("-fracture_modulus_unit", "Normalise moduli by this value instead "
+                        "calibrate or use sigma^p)",
+                        0.0, 0.0, 1e12);
+  o.modulus_unit = g.real("-fracture_modulus_unit",
+                          "Normalise moduli by this value instead "
                           "(E^phase units; e.g. E^[p] from an earlier calibration; 0: "
-                          "calibrate or use E^p)", 0.0, 0.0, 1e12);
+                          "calibrate or use E^p)",
+                          0.0, 0.0, 1e12);
   const ResultFolder::Request folder = ResultFolder::read_request(g, "results/fracture");
   o.output_dir = folder.dir;
   o.overwrite = folder.overwrite;
-  o.fields = g.flag("-output_fields", "Write the final displacements and bond states to "
+  o.fields = g.flag("-output_fields",
+                    "Write the final displacements and bond states to "
                     "HDF5/XDMF (fields.h5), and those of the first equilibrium with the node "
-                    "stresses of eq. 1 (elastic.h5)", true);
-  set_write_stop_grace(g.real(
-      "-output_write_grace", "Seconds a write that every rank waits for (fields, "
-      "snapshots, a checkpoint, also the one that answers the request) may go on after a "
-      "stop request (SIGTERM/SIGUSR1) before the job is ended without it (exit 4; the "
-      "same command resumes from the last checkpoint on disk); a write that failed on "
-      "some rank ends the job after 3 s (exit 3)", write_stop_grace(), 1.0, 86400.0));
-  o.snapshot_steps = g.integer("-output_snapshot_steps", "Also write them (as "
+                    "stresses of eq. 1 (elastic.h5)",
+                    true);
+  set_write_stop_grace(
+      g.real("-output_write_grace",
+             "Seconds a write that every rank waits for (fields, "
+             "snapshots, a checkpoint, also the one that answers the request) may go on after a "
+             "stop request (SIGTERM/SIGUSR1) before the job is ended without it (exit 4; the "
+             "same command resumes from the last checkpoint on disk); a write that failed on "
+             "some rank ends the job after 3 s (exit 3)",
+             write_stop_grace(), 1.0, 86400.0));
+  o.snapshot_steps = g.integer("-output_snapshot_steps",
+                               "Also write them (as "
                                "snapshot_<step>.h5/.xmf) once in every this many "
-                               "load steps (0: never)", 0, 0, 1'000'000'000);
+                               "load steps (0: never)",
+                               0, 0, 1'000'000'000);
   return o;
 }
 
-void run_fracture_job(MPI_Comm comm, const SampleOptions& sample,
-                      const FractureOptions& protocol, const FractureRunOptions& run,
-                      const SolverOptions& solver, const Provenance& provenance) {
+void run_fracture_job(MPI_Comm comm, const SampleOptions& sample, const FractureOptions& protocol,
+                      const FractureRunOptions& run, const SolverOptions& solver,
+                      const Provenance& provenance) {
   const FractureOptions& options = protocol;
   const bool from_file = !sample.sample_file.empty();
-  const bool calibrating = from_file && run.calibrate && run.sigma_unit == 0 &&
-                           run.modulus_unit == 0;
-  if (calibrating && !run.calibration_file.empty())  // before a calibration that could not be stored
+  const bool calibrating =
+      from_file && run.calibrate && run.sigma_unit == 0 && run.modulus_unit == 0;
+  if (calibrating &&
+      !run.calibration_file.empty())  // before a calibration that could not be stored
     run_on_root(comm, [&] {
       const auto folder = std::filesystem::path(run.calibration_file).parent_path();
       if (!folder.empty() && !std::filesystem::is_directory(folder))
@@ -383,7 +401,8 @@ void run_fracture_job(MPI_Comm comm, const SampleOptions& sample,
   // must not cost an earlier result.
   Prepared prepared = prepare(comm, sample, run.break_strain, options);
   if (const int signal = stop_requested(comm, "sample_read"))
-    throw Interrupted("stopped by " + signal_name(signal) + " before anything was "
+    throw Interrupted("stopped by " + signal_name(signal) +
+                      " before anything was "
                       "written; run the same command again");
   ResultFolder::Request request;
   request.dir = run.output_dir;
@@ -441,15 +460,18 @@ void register_fracture_output(FractureOutputEntry entry) {
 const std::vector<FractureOutputEntry>& fracture_outputs() { return output_registry(); }
 
 int fracture_program(int argc, char** argv, const char* help) {
-  return run_driver(argc, argv, help, [](MPI_Comm comm) {
-    const SampleOptions sample = read_sample_options(comm);
-    const FractureOptions protocol = read_fracture_options(comm);
-    const FractureRunOptions run = read_fracture_run_options(comm);
-    const SolverOptions solver = read_solver_options(comm);
-    check_option_names(comm);
-    const auto provenance = collect_provenance(comm, "lem_fracture");
-    run_fracture_job(comm, sample, protocol, run, solver, provenance);
-  }, StopHandling::save_and_exit);
+  return run_driver(
+      argc, argv, help,
+      [](MPI_Comm comm) {
+        const SampleOptions sample = read_sample_options(comm);
+        const FractureOptions protocol = read_fracture_options(comm);
+        const FractureRunOptions run = read_fracture_run_options(comm);
+        const SolverOptions solver = read_solver_options(comm);
+        check_option_names(comm);
+        const auto provenance = collect_provenance(comm, "lem_fracture");
+        run_fracture_job(comm, sample, protocol, run, solver, provenance);
+      },
+      StopHandling::save_and_exit);
 }
 
 }  // namespace lem

@@ -7,15 +7,18 @@ const std::vector<SummaryField>& fracture_summary_fields() {
       {"sample_file", "", "the sample file (empty for a generated lattice)"},
       {"nodes", "", "nodes of the lattice"},
       {"active_bonds", "", "bonds in the system (void bonds of sample files excluded)"},
-      {"mean_bond_length", "length", "a: the mean length of the lattice's elements (a sample "
-                                     "file's: every row of `/bonds`, void bonds included); "
-                                     "k = E^φ a, f = σ^φ a² and the load increment are in it"},
+      {"mean_bond_length", "length",
+       "a: the mean length of the lattice's elements (a sample "
+       "file's: every row of `/bonds`, void bonds included); "
+       "k = E^φ a, f = σ^φ a² and the load increment are in it"},
       {"increment_over_a", "", "load increment per step over a"},
       {"break_rule", "", "`-fracture_break_rule`"},
-      {"sigma_unit", "stress", "the stress unit of the curve: `-fracture_sigma_unit` if given, "
-                               "else σ^[p] if calibrated, else σ^p (sample files) or 1"},
-      {"E_unit", "stress", "the modulus unit: `-fracture_modulus_unit` if given, else E^[p] if "
-                           "calibrated, else E^p (sample files) or 1"},
+      {"sigma_unit", "stress",
+       "the stress unit of the curve: `-fracture_sigma_unit` if given, "
+       "else σ^[p] if calibrated, else σ^p (sample files) or 1"},
+      {"E_unit", "stress",
+       "the modulus unit: `-fracture_modulus_unit` if given, else E^[p] if "
+       "calibrated, else E^p (sample files) or 1"},
       {"sigma_hom", "stress", "σ^[p] of the calibration (0 without one)"},
       {"E_hom", "stress", "E^[p] of the calibration (0 without one)"},
       {"E_eff", "stress", "effective modulus: σ/ε of the first equilibrium"},
@@ -50,22 +53,28 @@ const std::vector<SummaryField>& fracture_summary_fields() {
       {"patch_iterations", "", "local scheme: CG iterations of the patch solves"},
       {"patch_nodes_mean", "", "local scheme: mean free nodes of a patch"},
       {"patch_overflows", "", "local scheme: patches too large, solved globally"},
-      {"patch_error_max", "", "local scheme: largest patch force error against the confirming "
-                              "global field, of max(f, mean f)"},
+      {"patch_error_max", "",
+       "local scheme: largest patch force error against the confirming "
+       "global field, of max(f, mean f)"},
       {"patch_disabled_step", "", "local scheme: step at which patches were given up (0: never)"},
-      {"solves_stepping_estimate", "", "steps + relaxation cycles: the solves of a run without "
-                                       "idle skipping"},
+      {"solves_stepping_estimate", "",
+       "steps + relaxation cycles: the solves of a run without "
+       "idle skipping"},
       {"work", "lattice", "external work W at the end (lattice units k a²)"},
       {"stored_energy", "lattice", "elastic energy E stored in the bonds at the end"},
-      {"ground_energy", "lattice", "energy G held by the ground springs "
-                                   "(`-lattice_ground_stiffness`) at the end"},
-      {"released_energy", "lattice", "energy R released by the relaxations (bonds and ground "
-                                     "springs; dissipated by the ruptures)"},
+      {"ground_energy", "lattice",
+       "energy G held by the ground springs "
+       "(`-lattice_ground_stiffness`) at the end"},
+      {"released_energy", "lattice",
+       "energy R released by the relaxations (bonds and ground "
+       "springs; dissipated by the ruptures)"},
       {"energy_balance_error", "", "\\|W − E − G − R\\| / W: the solver's error"},
-      {"end_reason", "", "why the run ended ([fracture](../model/fracture.md), \"Loose pieces "
-                         "and the end of a run\")"},
-      {"warnings", "", "`code:count` words, `calibration_` prefixed for the calibration's; "
-                       "`[]` for a sound run ([fracture](../model/fracture.md), \"Warnings\")"},
+      {"end_reason", "",
+       "why the run ended ([fracture](../model/fracture.md), \"Loose pieces "
+       "and the end of a run\")"},
+      {"warnings", "",
+       "`code:count` words, `calibration_` prefixed for the calibration's; "
+       "`[]` for a sound run ([fracture](../model/fracture.md), \"Warnings\")"},
       {"resumed", "", "1 if the run resumed from a checkpoint"},
       {"seconds", "s", "wall time (of the last part for a resumed run)"},
       {"peak_memory_mb", "MB", "the largest peak resident memory of a rank (of the last part)"},

@@ -46,7 +46,8 @@ bool of_families(const std::string& name, const std::vector<std::string>& stems)
 }
 
 // Rank 0: the files of `dir` that belong to the families `stems`.
-std::vector<std::string> family_files(const std::string& dir, const std::vector<std::string>& stems) {
+std::vector<std::string> family_files(const std::string& dir,
+                                      const std::vector<std::string>& stems) {
   std::vector<std::string> names;
   std::error_code ec;
   for (const auto& entry : fs::directory_iterator(dir, ec)) {
@@ -87,14 +88,13 @@ bool ResultLayout::owns(const std::string& name) const {
 }
 
 const ResultLayout& fracture_layout() {
-  static const ResultLayout layout = {
-      "lem_fracture",
-      {"curve.csv", "broken.csv", "summary.csv", "summary.json"},
-      {"curve.csv", "curve.json", "broken.csv"},
-      {"fields"},
-      {"elastic", "snapshot", "snapshots"},
-      {"calibration", "checkpoint.bin", "fracture.png", "fracture.pdf", "stress.png",
-       "stress.pdf", "stress.json"}};
+  static const ResultLayout layout = {"lem_fracture",
+                                      {"curve.csv", "broken.csv", "summary.csv", "summary.json"},
+                                      {"curve.csv", "curve.json", "broken.csv"},
+                                      {"fields"},
+                                      {"elastic", "snapshot", "snapshots"},
+                                      {"calibration", "checkpoint.bin", "fracture.png",
+                                       "fracture.pdf", "stress.png", "stress.pdf", "stress.json"}};
   return layout;
 }
 
@@ -105,27 +105,30 @@ const ResultLayout& tension_layout() {
 }
 
 const ResultLayout& stiffness_layout() {
-  static const ResultLayout layout = {
-      "lem_stiffness",
-      {"stiffness.csv", "fits.csv", "summary.csv", "summary.json"},
-      {},
-      {},
-      {},
-      {"stiffness.png", "stiffness.pdf", "interface.png", "interface.pdf"}};
+  static const ResultLayout layout = {"lem_stiffness",
+                                      {"stiffness.csv", "fits.csv", "summary.csv", "summary.json"},
+                                      {},
+                                      {},
+                                      {},
+                                      {"stiffness.png", "stiffness.pdf", "interface.png",
+                                       "interface.pdf"}};
   return layout;
 }
 
 const ResultLayout& convergence_layout() {
-  static const ResultLayout layout = {
-      "lem_convergence", {"convergence.csv", "fit.csv", "summary.csv", "summary.json"}, {}, {},
-      {}, {"convergence.png", "convergence.pdf"}};
+  static const ResultLayout layout = {"lem_convergence",
+                                      {"convergence.csv", "fit.csv", "summary.csv", "summary.json"},
+                                      {},
+                                      {},
+                                      {},
+                                      {"convergence.png", "convergence.pdf"}};
   return layout;
 }
 
 const ResultLayout& packing_layout() {
   static const ResultLayout layout = {
-      "lem_pack", {"packing.csv", "packing.json"}, {"packing_box.csv", "packing_box.json"}, {},
-      {}, {}};
+      "lem_pack", {"packing.csv", "packing.json"}, {"packing_box.csv", "packing_box.json"}, {}, {},
+      {}};
   return layout;
 }
 
@@ -138,10 +141,12 @@ std::string options_fingerprint(MPI_Comm comm, const std::string& inputs) {
 ResultFolder::Request ResultFolder::read_request(OptionGroup& g, const char* default_dir) {
   Request r;
   r.dir = g.string("-output_dir", "Directory of the results", default_dir);
-  r.overwrite = g.flag("-output_overwrite", "Compute the result again even if -output_dir "
+  r.overwrite = g.flag("-output_overwrite",
+                       "Compute the result again even if -output_dir "
                        "holds a finished one (its manifest.txt), in <output_dir>.overwrite/: "
                        "it replaces the old one only when complete; without it a finished "
-                       "run of the same input and options is left as it is (exit 0)", false);
+                       "run of the same input and options is left as it is (exit 0)",
+                       false);
   return r;
 }
 
@@ -159,8 +164,11 @@ std::string other_run(const Manifest& m, const ResultLayout& layout,
 // (the warning options are not part of the fingerprint).
 void refuse_if_strict(const std::string& dir, const Manifest& m, bool strict) {
   if (strict && !m.warnings.empty())
-    throw NumericalError("output directory '" + dir + "' holds a finished result with "
-                         "warnings (" + joined(m.warnings) + "), an error under "
+    throw NumericalError("output directory '" + dir +
+                         "' holds a finished result with "
+                         "warnings (" +
+                         joined(m.warnings) +
+                         "), an error under "
                          "-fracture_strict; pass -output_overwrite to compute it again");
 }
 
@@ -173,13 +181,19 @@ bool already_finished(const ResultLayout& layout, const ResultFolder::Request& r
   if (!manifest) return false;
   const std::string differs = other_run(*manifest, layout, r.fingerprint);
   if (!differs.empty())
-    throw InputError("output directory '" + r.dir + "' holds the finished result of "
-                     "another run:" + differs + "\npass -output_overwrite to replace it, "
+    throw InputError("output directory '" + r.dir +
+                     "' holds the finished result of "
+                     "another run:" +
+                     differs +
+                     "\npass -output_overwrite to replace it, "
                      "or choose another -output_dir");
   const std::string changed = manifest_mismatch(r.dir, *manifest);
   if (!changed.empty())
-    throw InputError("output directory '" + r.dir + "' holds a finished result changed "
-                     "since it was written:" + changed + "\npass -output_overwrite to "
+    throw InputError("output directory '" + r.dir +
+                     "' holds a finished result changed "
+                     "since it was written:" +
+                     changed +
+                     "\npass -output_overwrite to "
                      "compute it again");
   refuse_if_strict(r.dir, *manifest, r.strict);
   return true;
@@ -200,9 +214,11 @@ bool staged_complete(const ResultLayout& layout, const ResultFolder::Request& r)
     const std::string differs =
         other_run(*manifest, layout, r.fingerprint) + manifest_mismatch(staging, *manifest);
     if (!differs.empty())
-      throw InputError("'" + staging + "' holds the finished result of another "
-                       "-output_overwrite run of '" + r.dir + "', not yet in place:" +
-                       differs + "\nrun that command again to put it in place, or pass "
+      throw InputError("'" + staging +
+                       "' holds the finished result of another "
+                       "-output_overwrite run of '" +
+                       r.dir + "', not yet in place:" + differs +
+                       "\nrun that command again to put it in place, or pass "
                        "-checkpoint_resume false to discard it");
     refuse_if_strict(staging, *manifest, r.strict);
     remove_checkpoint(staging);
@@ -218,7 +234,8 @@ bool staged_complete(const ResultLayout& layout, const ResultFolder::Request& r)
   }
   if (clear_staging(r.dir))
     say("-output_overwrite: %s/ held a run stopped before its first checkpoint: "
-        "starting over\n", staging.c_str());
+        "starting over\n",
+        staging.c_str());
   return false;
 }
 
@@ -231,7 +248,8 @@ ResultFolder::ResultFolder(MPI_Comm comm, const ResultLayout& layout, Request re
   lock_ = std::make_unique<OutputLock>(comm, dir);
   // A replacement of the result stopped halfway is finished first (the new
   // result put in place, or the replaced one removed).
-  if (staging_is_ours(comm, dir)) staging_lock_ = std::make_unique<OutputLock>(comm, staging_dir(dir));
+  if (staging_is_ours(comm, dir))
+    staging_lock_ = std::make_unique<OutputLock>(comm, staging_dir(dir));
   run_on_root(comm, [&] {
     const std::string done = finish_replacement(dir, own);
     if (!done.empty()) say("%s/: %s\n", dir.c_str(), done.c_str());
@@ -252,7 +270,8 @@ ResultFolder::ResultFolder(MPI_Comm comm, const ResultLayout& layout, Request re
   finished_ = finished;
   if (finished_) {
     say("the result in %s/ is complete (manifest.txt): nothing to do; pass "
-        "-output_overwrite to compute it again\n", dir.c_str());
+        "-output_overwrite to compute it again\n",
+        dir.c_str());
     return;
   }
   // -output_overwrite on a finished result: the new one is computed in the
@@ -287,11 +306,13 @@ ResultFolder::ResultFolder(MPI_Comm comm, const ResultLayout& layout, Request re
   work_ = staging_dir(dir);
   if (!pending_)
     say("-output_overwrite: the new result is computed in %s/; the one in %s/ stays "
-        "until it is complete\n", work_.c_str(), dir.c_str());
+        "until it is complete\n",
+        work_.c_str(), dir.c_str());
   if (!exchange_)
     say("-output_overwrite: this filesystem cannot swap two folders in one rename: "
         "the new result will take the old one's place by two, between which %s/ "
-        "does not exist\n", dir.c_str());
+        "does not exist\n",
+        dir.c_str());
 }
 
 ResultFolder::~ResultFolder() = default;
@@ -356,8 +377,11 @@ void ResultFolder::install() const {
   }
   say("results in %s/\n", dir.c_str());
   if (const int signal = stop_requested(comm_, "committed"))
-    throw Interrupted("stopped by " + signal_name(signal) + " while the results were written; "
-                      "they are complete in " + dir + "/ (manifest.txt), so running the same "
+    throw Interrupted("stopped by " + signal_name(signal) +
+                      " while the results were written; "
+                      "they are complete in " +
+                      dir +
+                      "/ (manifest.txt), so running the same "
                       "command again does nothing");
 }
 

@@ -54,15 +54,16 @@ std::vector<Bridge> eligible_pairs(const std::vector<Sphere>& particles, double 
     grid.for_each_cell_near(c, [&](std::size_t cell) {
       for (std::int32_t m : cells[cell]) {
         if (m <= static_cast<std::int32_t>(k)) continue;
-        const double gap = distance(c, particles[m].centre) - particles[k].radius -
-                           particles[m].radius;
+        const double gap =
+            distance(c, particles[m].centre) - particles[k].radius - particles[m].radius;
         if (gap <= max_gap) pairs.push_back(Bridge{static_cast<std::int32_t>(k), m, 0.0});
       }
       return true;
     });
   }
-  std::sort(pairs.begin(), pairs.end(),
-            [](const Bridge& x, const Bridge& y) { return x.i < y.i || (x.i == y.i && x.j < y.j); });
+  std::sort(pairs.begin(), pairs.end(), [](const Bridge& x, const Bridge& y) {
+    return x.i < y.i || (x.i == y.i && x.j < y.j);
+  });
   return pairs;
 }
 
@@ -91,8 +92,8 @@ double bridge_volume(const Sphere& a, const Sphere& b, double lambda) {
     }
   };
   const double l2 = lambda * lambda, c2 = l2 * k * k + 1;
-  add_roots(c2, 2 * l2 * ra * k, (l2 - 1) * ra * ra, false);   // in s from centre a
-  add_roots(c2, -2 * l2 * rb * k, (l2 - 1) * rb * rb, true);   // in t = length - s
+  add_roots(c2, 2 * l2 * ra * k, (l2 - 1) * ra * ra, false);  // in s from centre a
+  add_roots(c2, -2 * l2 * rb * k, (l2 - 1) * rb * rb, true);  // in t = length - s
   std::sort(cuts.begin(), cuts.end());
   double volume = 0;
   for (std::size_t c = 0; c + 1 < cuts.size(); ++c) {
@@ -122,8 +123,8 @@ AggregateGeometry::AggregateGeometry(const Box& box, std::vector<Sphere> particl
   particle_cells_.assign(grid_.cell_count(), {});
   bridge_cells_.assign(grid_.cell_count(), {});
   // Register an item in every cell its bounding box [lo, hi] touches.
-  auto insert = [&](std::vector<std::vector<std::int32_t>>& cells, const Point& lo,
-                    const Point& hi, std::int32_t item) {
+  auto insert = [&](std::vector<std::vector<std::int32_t>>& cells, const Point& lo, const Point& hi,
+                    std::int32_t item) {
     grid_.for_each_cell_touching(lo, hi, [&](std::size_t cell) { cells[cell].push_back(item); });
   };
   for (std::size_t k = 0; k < particles_.size(); ++k) {
@@ -227,7 +228,8 @@ MatrixCalibration calibrate_bridges(
     const Box& box, const std::vector<Sphere>& particles, const BridgeSpec& spec,
     const std::function<double(const std::vector<Bridge>&)>& measure, double tolerance) {
   if (!(spec.matrix_fraction > 0 && spec.matrix_fraction < 1))
-    throw InputError("matrix fraction must be in (0, 1), got " + std::to_string(spec.matrix_fraction));
+    throw InputError("matrix fraction must be in (0, 1), got " +
+                     std::to_string(spec.matrix_fraction));
   MatrixCalibration cal;
   std::vector<Bridge> pairs = eligible_pairs(particles, spec.max_gap);
   if (pairs.empty())

@@ -38,9 +38,9 @@ void check_resolution(const CementedSampleSpec& spec, const CubeSample& cube) {
   const double bonds_needed = 7.5 * kMinNodesPerParticle * cube_volume / particle_volume;
   std::ostringstream s;
   s << "lattice too coarse for the particles: about " << static_cast<long long>(per_particle)
-    << " nodes per particle, at least " << kMinNodesPerParticle
-    << " needed; ask for at least " << static_cast<long long>(bonds_needed)
-    << " bonds (-lattice_bonds) for " << cube.centres_inside << " particles";
+    << " nodes per particle, at least " << kMinNodesPerParticle << " needed; ask for at least "
+    << static_cast<long long>(bonds_needed) << " bonds (-lattice_bonds) for " << cube.centres_inside
+    << " particles";
   throw InputError(s.str());
 }
 
@@ -124,8 +124,8 @@ CementedSample build_granular_sample(const CementedSampleSpec& spec) {
   s.node_phases = AggregateGeometry(ls.box, s.particles, {}).classify(s.lattice.nodes);
   const auto inside = std::count_if(s.node_phases.particle.begin(), s.node_phases.particle.end(),
                                     [](std::int32_t p) { return p >= 0; });
-  st.nodes_per_particle =
-      static_cast<double>(inside) / static_cast<double>(std::max<std::int64_t>(1, st.sample_particles));
+  st.nodes_per_particle = static_cast<double>(inside) /
+                          static_cast<double>(std::max<std::int64_t>(1, st.sample_particles));
   st.phases_seconds = MPI_Wtime() - t;
   return s;
 }

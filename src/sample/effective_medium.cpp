@@ -20,7 +20,8 @@ double Isotropic::poisson() const { return (3 * bulk - 2 * shear) / (2 * (3 * bu
 Isotropic hashin_shtrikman(const double* fraction, const Isotropic* phase, int phases,
                            const Isotropic& reference) {
   const double k0 = reference.bulk, m0 = reference.shear;
-  if (!(k0 > 0 && m0 > 0)) throw NumericalError("Hashin-Shtrikman estimate: reference medium has no stiffness");
+  if (!(k0 > 0 && m0 > 0))
+    throw NumericalError("Hashin-Shtrikman estimate: reference medium has no stiffness");
   const double k_star = 4 * m0 / 3;
   const double m_star = m0 * (9 * k0 + 8 * m0) / (6 * (k0 + 2 * m0));
   // (C_eff + C*)^-1 = sum_r f_r (C_r + C*)^-1, separately on the spherical
@@ -33,8 +34,8 @@ Isotropic hashin_shtrikman(const double* fraction, const Isotropic* phase, int p
   return {1 / j - k_star, 1 / k - m_star};
 }
 
-CompositeEstimate appendix_d_estimates(const CompositeFractions& f, double young_p,
-                                       double young_m, double young_pm, double poisson) {
+CompositeEstimate appendix_d_estimates(const CompositeFractions& f, double young_p, double young_m,
+                                       double young_pm, double poisson) {
   const Isotropic p = Isotropic::from_young(young_p, poisson);
   const Isotropic m = Isotropic::from_young(young_m, poisson);
   const double interphase = f.matrix + f.contact;

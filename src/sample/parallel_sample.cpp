@@ -162,8 +162,8 @@ SampleBlock build_cemented_sample_block(MPI_Comm comm, const CementedSampleSpec&
         sample_stages::ends_leaving_particles(phase, i.particle >= 0, j.particle >= 0);
   }
   for (std::size_t n = 0; n < nodes; ++n) counts[kPhaseCount + 1] += bare.particle[n] >= 0;
-  MPI_Allreduce(MPI_IN_PLACE, counts.data(), static_cast<int>(counts.size()), MPI_INT64_T,
-                MPI_SUM, comm);
+  MPI_Allreduce(MPI_IN_PLACE, counts.data(), static_cast<int>(counts.size()), MPI_INT64_T, MPI_SUM,
+                comm);
   for (int k = 0; k < kPhaseCount; ++k) st.bonds_per_phase[k] = counts[k];
   st.nodes_per_particle = static_cast<double>(counts[kPhaseCount + 1]) /
                           static_cast<double>(std::max<std::int64_t>(1, st.sample_particles));

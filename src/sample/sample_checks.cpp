@@ -18,9 +18,7 @@ std::string value_text(double v) {
 
 namespace {
 
-double box_side(const Box& box) {
-  return std::max({box.length(0), box.length(1), box.length(2)});
-}
+double box_side(const Box& box) { return std::max({box.length(0), box.length(1), box.length(2)}); }
 
 // Appended piece by piece: GCC 12 warns (-Wrestrict, a false positive) on
 // "(" + std::string.
@@ -42,7 +40,7 @@ std::string first_box_problem(const Box& box) {
   for (int a = 0; a < 3; ++a)
     if (!std::isfinite(box.lo[a]) || !std::isfinite(box.hi[a]) || !(box.lo[a] < box.hi[a]))
       return ("attributes box_lo " + point_text(box.lo) + " and box_hi " + point_text(box.hi) +
-                " do not describe a box");
+              " do not describe a box");
   return {};
 }
 
@@ -54,17 +52,16 @@ std::string first_node_problem(const Box& box, const std::vector<Point>& nodes,
     for (int a = 0; a < 3; ++a) {
       const std::string row = std::to_string(first_row + static_cast<std::int64_t>(i));
       if (!std::isfinite(nodes[i][a]))
-        return ("/nodes/coordinates row " + row + " = " + point_text(nodes[i]) +
-                  " is not finite");
+        return ("/nodes/coordinates row " + row + " = " + point_text(nodes[i]) + " is not finite");
       if (nodes[i][a] < box.lo[a] - slack || nodes[i][a] > box.hi[a] + slack)
         return ("/nodes/coordinates row " + row + " = " + point_text(nodes[i]) +
-                  " lies outside the box " + point_text(box.lo) + " - " + point_text(box.hi) +
-                  " (attributes box_lo, box_hi)");
+                " lies outside the box " + point_text(box.lo) + " - " + point_text(box.hi) +
+                " (attributes box_lo, box_hi)");
     }
   for (std::size_t i = 0; i < volume.size(); ++i)
     if (!(std::isfinite(volume[i]) && volume[i] > 0))
       return ("/nodes/volume row " + std::to_string(first_row + static_cast<std::int64_t>(i)) +
-                " = " + value_text(volume[i]) + " is not a finite positive volume");
+              " = " + value_text(volume[i]) + " is not a finite positive volume");
   return {};
 }
 
@@ -73,18 +70,18 @@ std::string volume_sum_problem(const Box& box, double volume) {
   const double box_volume = box.volume();
   if (std::fabs(volume - box_volume) > 1e-6 * box_volume)
     return ("/nodes/volume sums to " + value_text(volume) + ", not to the volume of the box, " +
-              value_text(box_volume));
+            value_text(box_volume));
   return {};
 }
 
-std::string zero_length_problem(const Box& box, std::int64_t row, std::int64_t i,
-                                std::int64_t j, const Point& p, const Point& q) {
+std::string zero_length_problem(const Box& box, std::int64_t row, std::int64_t i, std::int64_t j,
+                                const Point& p, const Point& q) {
   const double length = std::sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
                                   (p[2] - q[2]) * (p[2] - q[2]));
   if (length > 1e-12 * box_side(box)) return {};
   return ("/bonds/connectivity row " + std::to_string(row) + " joins nodes " + std::to_string(i) +
-            " and " + std::to_string(j) + ", which coincide at " + point_text(p) +
-            " (a bond of zero length)");
+          " and " + std::to_string(j) + ", which coincide at " + point_text(p) +
+          " (a bond of zero length)");
 }
 
 std::string first_description_problem(const CementedSample& s) {
@@ -92,12 +89,12 @@ std::string first_description_problem(const CementedSample& s) {
     const Point& c = s.particles[k].centre;
     if (!std::isfinite(c[0]) || !std::isfinite(c[1]) || !std::isfinite(c[2]))
       return ("/particles/centres row " + std::to_string(k) + " = " + point_text(c) +
-                " is not finite");
+              " is not finite");
   }
   for (std::size_t k = 0; k < s.bridges.size(); ++k)
     if (!(std::isfinite(s.bridges[k].lambda) && s.bridges[k].lambda > 0))
-      return ("/bridges/lambda row " + std::to_string(k) + " = " +
-                value_text(s.bridges[k].lambda) + " is not a finite positive ratio");
+      return ("/bridges/lambda row " + std::to_string(k) + " = " + value_text(s.bridges[k].lambda) +
+              " is not a finite positive ratio");
   return {};
 }
 
@@ -145,8 +142,8 @@ std::string first_geometry_problem(const CementedSample& s) {
 std::string repeated_bond_problem(std::int64_t row, std::int64_t original, std::int64_t i,
                                   std::int64_t j) {
   return ("/bonds/connectivity row " + std::to_string(row) + " repeats row " +
-            std::to_string(original) + " (nodes " + std::to_string(i) + " and " +
-            std::to_string(j) + ")");
+          std::to_string(original) + " (nodes " + std::to_string(i) + " and " + std::to_string(j) +
+          ")");
 }
 
 }  // namespace lem

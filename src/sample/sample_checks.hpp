@@ -23,8 +23,8 @@ std::string first_box_problem(const Box& box);
 std::string first_node_problem(const Box& box, const std::vector<Point>& nodes,
                                const std::vector<double>& volume, std::int64_t first_row);
 std::string volume_sum_problem(const Box& box, double volume);
-std::string zero_length_problem(const Box& box, std::int64_t row, std::int64_t i,
-                                std::int64_t j, const Point& p, const Point& q);
+std::string zero_length_problem(const Box& box, std::int64_t row, std::int64_t i, std::int64_t j,
+                                const Point& p, const Point& q);
 std::string repeated_bond_problem(std::int64_t row, std::int64_t original, std::int64_t i,
                                   std::int64_t j);
 /// Particles and bridges.

@@ -85,10 +85,14 @@ void visit_statistics(CementedSampleStats& st, Visit&& visit) {
 
 template <class T>
 std::pair<hid_t, hid_t> hdf5_types() {  // (file type, memory type)
-  if constexpr (std::is_same_v<T, double>) return {H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE};
-  else if constexpr (std::is_same_v<T, std::int64_t>) return {H5T_STD_I64LE, H5T_NATIVE_INT64};
-  else if constexpr (std::is_same_v<T, std::uint64_t>) return {H5T_STD_U64LE, H5T_NATIVE_UINT64};
-  else if constexpr (std::is_same_v<T, std::int32_t>) return {H5T_STD_I32LE, H5T_NATIVE_INT32};
+  if constexpr (std::is_same_v<T, double>)
+    return {H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE};
+  else if constexpr (std::is_same_v<T, std::int64_t>)
+    return {H5T_STD_I64LE, H5T_NATIVE_INT64};
+  else if constexpr (std::is_same_v<T, std::uint64_t>)
+    return {H5T_STD_U64LE, H5T_NATIVE_UINT64};
+  else if constexpr (std::is_same_v<T, std::int32_t>)
+    return {H5T_STD_I32LE, H5T_NATIVE_INT32};
   else {
     static_assert(std::is_same_v<T, std::uint8_t>);
     return {H5T_STD_U8LE, H5T_NATIVE_UINT8};
@@ -98,7 +102,9 @@ std::pair<hid_t, hid_t> hdf5_types() {  // (file type, memory type)
 inline const char* distribution_name(SizeDistribution d) {
   return d == SizeDistribution::uniform_volume ? "uniform_volume" : "uniform_diameter";
 }
-inline const char* law_name(ContactLaw law) { return law == ContactLaw::hertz ? "hertz" : "linear"; }
+inline const char* law_name(ContactLaw law) {
+  return law == ContactLaw::hertz ? "hertz" : "linear";
+}
 
 inline const char* generator_name(LatticeGenerator g) {
   return g == LatticeGenerator::cells ? "cells" : "serial";

@@ -48,7 +48,8 @@ class SampleReader {
       throw InputError("sample file '" + path + "' cannot be opened through MPI-IO");
     file_ = Handle(H5Fopen(path.c_str(), H5F_ACC_RDONLY, access.get()), H5Fclose);
     if (!file_.valid())
-      throw InputError("sample file '" + path + "' is not a readable HDF5 file (damaged or "
+      throw InputError("sample file '" + path +
+                       "' is not a readable HDF5 file (damaged or "
                        "truncated?)");
   }
 
@@ -95,8 +96,8 @@ class SampleReader {
   std::vector<T> dataset(const std::string& name, std::int64_t& rows, hsize_t columns = 0) const {
     Handle set = checked<T>(name, rows, columns);
     std::vector<T> values(static_cast<std::size_t>(rows) * (columns == 0 ? 1 : columns));
-    if (!values.empty() && H5Dread(set.get(), hdf5_types<T>().second, H5S_ALL, H5S_ALL,
-                                   H5P_DEFAULT, values.data()) < 0)
+    if (!values.empty() && H5Dread(set.get(), hdf5_types<T>().second, H5S_ALL, H5S_ALL, H5P_DEFAULT,
+                                   values.data()) < 0)
       corrupt("dataset " + name + " cannot be read (truncated file?)");
     return values;
   }
@@ -118,8 +119,8 @@ class SampleReader {
     if (ok && count == 0) {
       ok = H5Sselect_none(file_space.get()) >= 0 && H5Sselect_none(memory_space.get()) >= 0;
     } else if (ok) {
-      ok = H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, start, nullptr, counts,
-                               nullptr) >= 0;
+      ok = H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, start, nullptr, counts, nullptr) >=
+           0;
     }
     T dummy{};  // never written: the selection is empty
     if (!ok || H5Dread(set.get(), hdf5_types<T>().second, memory_space.get(), file_space.get(),
@@ -169,8 +170,9 @@ void check_range(const SampleReader& r, const std::vector<T>& values, std::int64
   for (std::size_t k = 0; k < values.size(); ++k) {
     const auto v = static_cast<std::int64_t>(values[k]);
     if (v < lo || v > hi)
-      r.corrupt(dataset + " row " + std::to_string(first_row + static_cast<std::int64_t>(k / columns)) +
-                " holds " + std::to_string(v) + ", out of range [" + std::to_string(lo) + ", " +
+      r.corrupt(dataset + " row " +
+                std::to_string(first_row + static_cast<std::int64_t>(k / columns)) + " holds " +
+                std::to_string(v) + ", out of range [" + std::to_string(lo) + ", " +
                 std::to_string(hi) + "]");
   }
 }
@@ -220,8 +222,9 @@ SampleFile read_description(const SampleReader& r, const std::string& path) {
     if (generator != generator_name(LatticeGenerator::serial) &&
         generator != generator_name(LatticeGenerator::cells))
       r.corrupt("unknown lattice_generator '" + generator + "'");
-    f.spec.generator = generator == generator_name(LatticeGenerator::cells) ? LatticeGenerator::cells
-                                                                           : LatticeGenerator::serial;
+    f.spec.generator = generator == generator_name(LatticeGenerator::cells)
+                           ? LatticeGenerator::cells
+                           : LatticeGenerator::serial;
   }
   r.numbers("box_lo", s.lattice.box.lo.data(), 3);
   r.numbers("box_hi", s.lattice.box.hi.data(), 3);
@@ -242,8 +245,8 @@ SampleFile read_description(const SampleReader& r, const std::string& path) {
   std::int64_t p = -1;
   const auto centres = r.dataset<double>("/particles/centres", p, 3);
   if (p != s.stats.particles)
-    r.corrupt(std::to_string(p) + " particle rows but attribute particles = " +
-              std::to_string(s.stats.particles));
+    r.corrupt(std::to_string(p) +
+              " particle rows but attribute particles = " + std::to_string(s.stats.particles));
   const auto radii = r.dataset<double>("/particles/radii", p);
   s.particles.resize(static_cast<std::size_t>(p));
   for (std::size_t i = 0; i < s.particles.size(); ++i) {
@@ -288,7 +291,8 @@ void read_node_rows(const SampleReader& r, const SampleFile& f, std::int64_t beg
     if ((codes[i] == 0) != (b.particle[i] >= 0))
       r.corrupt("/nodes/phase row " + std::to_string(begin + static_cast<std::int64_t>(i)) +
                 " holds " + std::to_string(codes[i]) + " but /nodes/particle holds " +
-                std::to_string(b.particle[i]) + " (0 is the phase of nodes in a particle, and "
+                std::to_string(b.particle[i]) +
+                " (0 is the phase of nodes in a particle, and "
                 "only of them)");
     b.matrix[i] = codes[i] == 1 ? 1 : 0;
   }
@@ -367,9 +371,11 @@ void check_repeated_bonds(MPI_Comm comm, const SampleBlock& block, const RowBloc
     std::size_t first = k - 1;
     while (first > 0 && mine[first - 1].i == mine[k].i && mine[first - 1].j == mine[k].j) --first;
     if (first == k - 1 && mine[k].row < found[0])
-      found[0] = mine[k].row, found[1] = mine[first].row, found[2] = mine[k].i, found[3] = mine[k].j;
+      found[0] = mine[k].row, found[1] = mine[first].row, found[2] = mine[k].i,
+      found[3] = mine[k].j;
   }
-  const std::vector<std::int64_t> all = allgather(comm, std::vector<std::int64_t>(found, found + 4));
+  const std::vector<std::int64_t> all =
+      allgather(comm, std::vector<std::int64_t>(found, found + 4));
   std::size_t best = 0;
   for (std::size_t r = 4; r < all.size(); r += 4)
     if (all[r] < all[best]) best = r;
@@ -412,8 +418,10 @@ SampleBlock read_sample_block(MPI_Comm comm, const std::string& path) {
   b.node_begin = node_blocks.begin(rank);
   b.bond_begin = bond_blocks.begin(rank);
   run_collectively(comm, [&] {
-    read_node_rows(*reader, b.description, b.node_begin, node_blocks.begin(rank + 1) - b.node_begin, b);
-    read_bond_rows(*reader, b.description, b.bond_begin, bond_blocks.begin(rank + 1) - b.bond_begin, b);
+    read_node_rows(*reader, b.description, b.node_begin, node_blocks.begin(rank + 1) - b.node_begin,
+                   b);
+    read_bond_rows(*reader, b.description, b.bond_begin, bond_blocks.begin(rank + 1) - b.bond_begin,
+                   b);
   });
   double volume = 0, total = 0;
   for (const double v : b.volume) volume += v;
@@ -434,9 +442,10 @@ SampleBlock read_sample_block(MPI_Comm comm, const std::string& path) {
   run_collectively(comm, [&] {
     for (std::size_t k = 0; k < b.ends.size(); ++k) {
       b.end_coords[k] = {at[2 * k], at[2 * k + 1]};
-      const std::string zero = zero_length_problem(
-          b.description.sample.lattice.box, b.bond_begin + static_cast<std::int64_t>(k),
-          b.ends[k][0], b.ends[k][1], at[2 * k], at[2 * k + 1]);
+      const std::string zero =
+          zero_length_problem(b.description.sample.lattice.box,
+                              b.bond_begin + static_cast<std::int64_t>(k), b.ends[k][0],
+                              b.ends[k][1], at[2 * k], at[2 * k + 1]);
       if (!zero.empty()) reader->corrupt(zero);
     }
   });

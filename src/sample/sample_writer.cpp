@@ -188,8 +188,8 @@ void check_sizes(const CementedSample& s) {
       s.node_phases.matrix.size() != n || s.bond_phase.size() != m ||
       s.lattice.stiffness.size() != m)
     throw std::invalid_argument("write_sample: the sample's per-node or per-bond arrays do not "
-                                "match its lattice (" + std::to_string(n) + " nodes, " +
-                                std::to_string(m) + " bonds)");
+                                "match its lattice (" +
+                                std::to_string(n) + " nodes, " + std::to_string(m) + " bonds)");
 }
 
 std::vector<char> write_hdf5(const std::string& path, const std::string& label,
@@ -227,7 +227,8 @@ std::vector<char> write_hdf5(const std::string& path, const std::string& label,
 
   write_recipe_attributes(w, s, spec);
   if (!h5::write_provenance_attributes(w.file(), provenance))
-    throw InputError("cannot write sample file " + label + ": HDF5 could not write the "
+    throw InputError("cannot write sample file " + label +
+                     ": HDF5 could not write the "
                      "provenance attributes");
   return w.close();
 }
@@ -289,7 +290,8 @@ class SampleBlockWriter {
   template <class T>
   void dataset(const Group& group, const std::string& name, const T* data, const Slab& rows) {
     const auto [file_type, memory_type] = hdf5_types<T>();
-    file_.dataset(group.id, "/" + group.name + "/" + name, name, file_type, memory_type, rows, data);
+    file_.dataset(group.id, "/" + group.name + "/" + name, name, file_type, memory_type, rows,
+                  data);
   }
   /// Rows that every rank holds whole: written by rank 0.
   template <class T>
@@ -305,7 +307,8 @@ class SampleBlockWriter {
     });
   }
   void text(const std::string& name, const std::string& value) {
-    file_.attribute(name, [&](hid_t root) { return h5::write_string_attribute(root, name, value); });
+    file_.attribute(name,
+                    [&](hid_t root) { return h5::write_string_attribute(root, name, value); });
   }
   void vector3(const std::string& name, const Point& value) {
     file_.attribute(name, [&](hid_t root) { return write_point_attribute(root, name, value); });
@@ -335,13 +338,15 @@ void write_block_hdf5(MPI_Comm comm, const std::string& path, const SampleBlock&
   for (std::size_t n = 0; n < codes.size(); ++n)
     codes[n] = b.particle[n] >= 0 ? 0 : (b.matrix[n] ? 1 : 2);
   w.dataset(nodes, "phase", codes.data(), node_rows);
-  const auto vertices = h5::XdmfText::vertex_rows(b.node_begin, static_cast<std::int64_t>(b.coords.size()));
+  const auto vertices =
+      h5::XdmfText::vertex_rows(b.node_begin, static_cast<std::int64_t>(b.coords.size()));
   w.dataset(nodes, "vertices", vertices.data(), node_rows.with_columns(1));
 
   const auto bonds = w.group("bonds");
   w.dataset(bonds, "connectivity", b.ends.data()->data(), bond_rows.with_columns(2));
   codes.resize(b.ends.size());
-  for (std::size_t k = 0; k < codes.size(); ++k) codes[k] = static_cast<std::uint8_t>(b.bond_phase[k]);
+  for (std::size_t k = 0; k < codes.size(); ++k)
+    codes[k] = static_cast<std::uint8_t>(b.bond_phase[k]);
   w.dataset(bonds, "phase", codes.data(), bond_rows);
   const std::vector<double> stiffness(b.ends.size(), spec.lattice.stiffness);
   w.dataset(bonds, "stiffness", stiffness.data(), bond_rows);
@@ -386,7 +391,8 @@ void write_sample_block(MPI_Comm comm, const std::string& stem, const SampleBloc
                                   "differ in length");
   });
   write_hdf5_into_place(
-      comm, stem + ".h5", [&](const std::string& temporary) { write_block_hdf5(comm, temporary, b); },
+      comm, stem + ".h5",
+      [&](const std::string& temporary) { write_block_hdf5(comm, temporary, b); },
       [&] {
         write_sample_xdmf(stem, b.nodes, b.bonds,
                           static_cast<std::int64_t>(b.description.sample.particles.size()));

@@ -40,8 +40,8 @@ std::map<std::int64_t, Pick> pick_nodes(const DistributedLattice& l,
   std::map<std::int64_t, Pick> best;
   const auto take = [&](const Pick& p) {
     auto [it, fresh] = best.emplace(p.piece, p);
-    if (!fresh && (p.score < it->second.score ||
-                   (p.score == it->second.score && p.id < it->second.id)))
+    if (!fresh &&
+        (p.score < it->second.score || (p.score == it->second.score && p.id < it->second.id)))
       it->second = p;
   };
   for (int n = 0; n < l.owned; ++n) {
@@ -77,7 +77,8 @@ void constrain(DistributedLattice& l, const std::vector<int>& ghost_owner, Setup
       if (label[n] < 0) continue;
       auto [it, fresh] = mine.emplace(label[n], Sums{label[n], 0, 0, 0, 0, 0, 0});
       Sums& s = it->second;
-      if (l.faces[n] & kZmin) ++s.bottom, s.bottom_x += l.coords[n][0], s.bottom_y += l.coords[n][1];
+      if (l.faces[n] & kZmin)
+        ++s.bottom, s.bottom_x += l.coords[n][0], s.bottom_y += l.coords[n][1];
       if (l.faces[n] & kZmax) ++s.top, s.top_x += l.coords[n][0], s.top_y += l.coords[n][1];
     }
     std::vector<Sums> list;
@@ -129,8 +130,9 @@ void constrain(DistributedLattice& l, const std::vector<int>& ghost_owner, Setup
   std::unordered_map<std::int64_t, int> owned_index;
   for (int n = 0; n < l.owned; ++n) owned_index.emplace(l.node_id[n], n);
   const std::vector<std::int64_t> ghost_ids(l.node_id.begin() + l.owned, l.node_id.end());
-  const std::vector<std::uint8_t> flags = ask<std::uint8_t>(
-      l.comm, ghost_ids, ghost_owner, [&](std::int64_t id) { return l.dof_flags[owned_index.at(id)]; });
+  const std::vector<std::uint8_t> flags =
+      ask<std::uint8_t>(l.comm, ghost_ids, ghost_owner,
+                        [&](std::int64_t id) { return l.dof_flags[owned_index.at(id)]; });
   std::copy(flags.begin(), flags.end(), l.dof_flags.begin() + l.owned);
 
   // Only the bonds between nodes that are not pinned stay, and the ghosts

@@ -112,7 +112,7 @@ struct LengthSums {
 // stiffness, strength and id (its row of /bonds); the lattice statistics.
 struct BlockBonds {
   std::vector<BondRecord> bonds;
-  std::int64_t kept = 0;        // mechanical bonds, all ranks
+  std::int64_t kept = 0;  // mechanical bonds, all ranks
   SampleInfo info;
 };
 
@@ -186,13 +186,12 @@ class CellOwners {
       ++joined[27 * i + d];
       ++joined[27 * j + (26 - d)];
     }
-    MPI_Allreduce(MPI_IN_PLACE, weight.data(), static_cast<int>(cells), MPI_INT64_T, MPI_SUM,
-                  comm);
+    MPI_Allreduce(MPI_IN_PLACE, weight.data(), static_cast<int>(cells), MPI_INT64_T, MPI_SUM, comm);
     in_pieces(joined.size(), std::uint64_t(1) << 28, [&](std::uint64_t start, int count) {
       MPI_Allreduce(MPI_IN_PLACE, joined.data() + start, count, MPI_INT32_T, MPI_SUM, comm);
     });
-    const std::int64_t filled = std::count_if(weight.begin(), weight.end(),
-                                              [](std::int64_t w) { return w > 0; });
+    const std::int64_t filled =
+        std::count_if(weight.begin(), weight.end(), [](std::int64_t w) { return w > 0; });
     if (filled < ranks)
       throw InputError("the lattice's " + std::to_string(block.nodes) + " nodes fill " +
                        std::to_string(filled) + " cells of the partition grid, fewer than the " +
@@ -297,15 +296,16 @@ DistributedLattice distribute(MPI_Comm comm, const NodeBlock& block,
   for (const auto& [id, owner] : ghosts) ghost_ids.push_back(id), ghost_to.push_back(owner);
   std::unordered_map<std::int64_t, Point> ghost_x;
   for (const BondRecord& b : held) ghost_x.emplace(b.i, b.xi), ghost_x.emplace(b.j, b.xj);
-  const std::vector<GhostRecord> told = ask<GhostRecord>(comm, ghost_ids, ghost_to, [&](std::int64_t id) {
-    const int n = local.at(id);
-    GhostRecord g{};
-    g.global_index = dl.global_index[n];
-    g.volume = dl.node_volume[n];
-    g.particle = dl.node_particle[n];
-    g.faces = dl.faces[n];
-    return g;
-  });
+  const std::vector<GhostRecord> told =
+      ask<GhostRecord>(comm, ghost_ids, ghost_to, [&](std::int64_t id) {
+        const int n = local.at(id);
+        GhostRecord g{};
+        g.global_index = dl.global_index[n];
+        g.volume = dl.node_volume[n];
+        g.particle = dl.node_particle[n];
+        g.faces = dl.faces[n];
+        return g;
+      });
   // Ghosts in increasing global order.
   std::vector<std::size_t> order(ghost_ids.size());
   std::iota(order.begin(), order.end(), 0);
@@ -341,8 +341,8 @@ DistributedLattice distribute(MPI_Comm comm, const NodeBlock& block,
 
 // Steps 3-5, from this rank's nodes and bonds.
 DistributedLattice partition_and_constrain(MPI_Comm comm, const NodeBlock& nodes,
-                                           std::vector<BondRecord>& bonds,
-                                           double a, SetupReport& report) {
+                                           std::vector<BondRecord>& bonds, double a,
+                                           SetupReport& report) {
   double t = MPI_Wtime();
   const CellOwners owners(comm, nodes, bonds);
   report.seconds_partition = MPI_Wtime() - t;

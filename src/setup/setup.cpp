@@ -23,20 +23,22 @@ namespace {
 
 // Options that generate a lattice or change it: a sample file fixes both.
 const char* const kGenerationOptions[] = {
-    "-lattice_type", "-lattice_box", "-lattice_nodes", "-lattice_bonds", "-lattice_Ln",
-    "-lattice_min_separation", "-lattice_seed", "-lattice_k", "-lattice_generator", "-fcc_cells",
-    "-inclusion_type",
-    "-inclusion_fraction", "-inclusion_radius", "-inclusion_seed", "-inclusion_stiffness_ratio",
+    "-lattice_type",        "-lattice_box",    "-lattice_nodes",
+    "-lattice_bonds",       "-lattice_Ln",     "-lattice_min_separation",
+    "-lattice_seed",        "-lattice_k",      "-lattice_generator",
+    "-fcc_cells",           "-inclusion_type", "-inclusion_fraction",
+    "-inclusion_radius",    "-inclusion_seed", "-inclusion_stiffness_ratio",
     "-inclusion_void_bonds"};
 
 // PETSc numbers the three displacements of every node with PetscInt.
 void check_petsc_indices(std::int64_t nodes) {
   const auto dofs = 3 * static_cast<std::uint64_t>(nodes);
   if (dofs > static_cast<std::uint64_t>(PETSC_MAX_INT))
-    throw InputError("the lattice has " + std::to_string(nodes) + " nodes: " +
-                     std::to_string(dofs) + " displacements, more than this PETSc's " +
+    throw InputError("the lattice has " + std::to_string(nodes) +
+                     " nodes: " + std::to_string(dofs) + " displacements, more than this PETSc's " +
                      std::to_string(8 * sizeof(PetscInt)) + "-bit indices can number (" +
-                     std::to_string(PETSC_MAX_INT) + "); build against a PETSc configured "
+                     std::to_string(PETSC_MAX_INT) +
+                     "); build against a PETSc configured "
                      "with 64-bit indices");
 }
 
@@ -122,10 +124,13 @@ SampleOptions read_sample_options(MPI_Comm comm) {
   SampleOptions o;
   {
     OptionGroup g(comm, "Cemented sample file");
-    o.sample_file = g.string("-sample_file", "HDF5 sample written by lem_sample (e.g. "
+    o.sample_file = g.string("-sample_file",
+                             "HDF5 sample written by lem_sample (e.g. "
                              "meshes/tiny.h5); replaces the -lattice_* and -inclusion_* "
-                             "generation, bond moduli from -phase_E_*", "");
-    o.parallel = g.flag("-sample_parallel", "Set the sample file up in parallel: every rank "
+                             "generation, bond moduli from -phase_E_*",
+                             "");
+    o.parallel = g.flag("-sample_parallel",
+                        "Set the sample file up in parallel: every rank "
                         "reads its share of the rows, the lattice is partitioned by spatial "
                         "cells and constrained in parallel (no rank holds the whole sample)",
                         false);
@@ -133,13 +138,17 @@ SampleOptions read_sample_options(MPI_Comm comm) {
       throw InputError("option -sample_parallel sets up a sample file: it needs -sample_file");
     // HDF5 would wait on a pipe for a writer, deaf to stop signals.
     if (const std::string what = not_a_regular_file(o.sample_file); !what.empty())
-      throw InputError("option -sample_file = '" + o.sample_file + "': " + what + ", not a "
+      throw InputError("option -sample_file = '" + o.sample_file + "': " + what +
+                       ", not a "
                        "sample file (HDF5 files are read by position: give a regular file)");
     if (!o.sample_file.empty())
       for (const char* name : kGenerationOptions)
         if (g.given(name))
-          throw InputError("option " + std::string(name) + " cannot be combined with "
-                           "-sample_file '" + o.sample_file + "': the sample file fixes the "
+          throw InputError("option " + std::string(name) +
+                           " cannot be combined with "
+                           "-sample_file '" +
+                           o.sample_file +
+                           "': the sample file fixes the "
                            "lattice and its phases (bond moduli: -phase_E_*)");
   }
   o.phases = read_phase_table(comm);
@@ -147,23 +156,26 @@ SampleOptions read_sample_options(MPI_Comm comm) {
   if (o.sample_file.empty())
     for (const OptionRecord& r : registered_options())
       if (r.given && r.name.rfind("-phase_", 0) == 0)
-        throw InputError("option " + r.name + " sets the bonds of a cemented sample and needs "
+        throw InputError("option " + r.name +
+                         " sets the bonds of a cemented sample and needs "
                          "-sample_file");
   {
     OptionGroup g(comm, "Lattice");
-    o.lattice_type = g.choice<LatticeType>("-lattice_type", "Lattice geometry",
-                                           {{"random", LatticeType::random}, {"fcc", LatticeType::fcc}},
-                                           LatticeType::random);
+    o.lattice_type =
+        g.choice<LatticeType>("-lattice_type", "Lattice geometry",
+                              {{"random", LatticeType::random}, {"fcc", LatticeType::fcc}},
+                              LatticeType::random);
     const auto box = g.positive_reals("-lattice_box", "Box side lengths Lx,Ly,Lz", {1.0, 1.0, 1.0});
     for (int a = 0; a < 3; ++a) o.random.box.hi[a] = box[a];
     if (!read_random_lattice_options(g, o.random)) o.random.nodes = 20000;
-    o.random.stiffness = g.real("-lattice_k", "Hooke constant k of the bonds", 1.0, 0.0, 1e300, true);
+    o.random.stiffness =
+        g.real("-lattice_k", "Hooke constant k of the bonds", 1.0, 0.0, 1e300, true);
     o.generator = read_lattice_generator(g);
     if (o.generator == LatticeGenerator::cells && o.lattice_type != LatticeType::random)
       throw InputError("option -lattice_generator cells makes random lattices: not with "
                        "-lattice_type fcc");
-    const int cells = static_cast<int>(g.integer("-fcc_cells", "FCC lattice: unit cells per axis",
-                                                 4, 1, 400));
+    const int cells =
+        static_cast<int>(g.integer("-fcc_cells", "FCC lattice: unit cells per axis", 4, 1, 400));
     o.fcc_cells = {cells, cells, cells};
     o.halve_face_bonds = read_face_bond_option(g);
     if (o.lattice_type == LatticeType::fcc && g.given("-lattice_face_bonds"))
@@ -173,20 +185,24 @@ SampleOptions read_sample_options(MPI_Comm comm) {
   }
   {
     OptionGroup g(comm, "Inclusions (two-phase samples)");
-    o.inclusion_type = g.choice<InclusionType>(
-        "-inclusion_type", "Spherical inclusions",
-        {{"none", InclusionType::none}, {"stiff", InclusionType::stiff}, {"pore", InclusionType::pore}},
-        InclusionType::none);
-    o.inclusions.volume_fraction = g.real("-inclusion_fraction", "Volume fraction of inclusions",
-                                          0.2, 0.0, 0.6, true);
+    o.inclusion_type = g.choice<InclusionType>("-inclusion_type", "Spherical inclusions",
+                                               {{"none", InclusionType::none},
+                                                {"stiff", InclusionType::stiff},
+                                                {"pore", InclusionType::pore}},
+                                               InclusionType::none);
+    o.inclusions.volume_fraction =
+        g.real("-inclusion_fraction", "Volume fraction of inclusions", 0.2, 0.0, 0.6, true);
     o.inclusions.radius = g.real("-inclusion_radius", "Inclusion radius / smallest box side", 0.1,
                                  0.0, 0.5, true, true);
     o.inclusions.seed = static_cast<std::uint64_t>(
         g.integer("-inclusion_seed", "Random seed of the inclusion centres", 7, 0, PETSC_MAX_INT));
-    o.inclusion_stiffness_ratio = g.real("-inclusion_stiffness_ratio", "k inside stiff inclusions "
-                                         "/ k of the matrix", 10.0, 0.0, 1e6, true);
+    o.inclusion_stiffness_ratio = g.real("-inclusion_stiffness_ratio",
+                                         "k inside stiff inclusions "
+                                         "/ k of the matrix",
+                                         10.0, 0.0, 1e6, true);
     o.pore_needs_both_ends = g.choice<bool>(
-        "-inclusion_void_bonds", "Which bonds a pore removes (the paper states only f^v = 0): "
+        "-inclusion_void_bonds",
+        "Which bonds a pore removes (the paper states only f^v = 0): "
         "any_end = every bond with an end in a pore, both_ends = only bonds with both ends in "
         "it; any and both are older spellings",
         {{"any_end", false}, {"both_ends", true}, {"any", false}, {"both", true}}, false);

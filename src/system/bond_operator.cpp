@@ -135,8 +135,8 @@ void BondOperator::multiply(Vec x, Vec y) const {
   for (std::size_t b = 0; b < bonds; ++b) {
     const double* ui = u + 3 * static_cast<std::size_t>(bi[b]);
     const double* uj = u + 3 * static_cast<std::size_t>(bj[b]);
-    const double f = k[b] * (nx[b] * (uj[0] - ui[0]) + ny[b] * (uj[1] - ui[1]) +
-                             nz[b] * (uj[2] - ui[2]));
+    const double f =
+        k[b] * (nx[b] * (uj[0] - ui[0]) + ny[b] * (uj[1] - ui[1]) + nz[b] * (uj[2] - ui[2]));
     double* yi = acc + 3 * static_cast<std::size_t>(bi[b]);
     double* yj = acc + 3 * static_cast<std::size_t>(bj[b]);
     yi[0] -= f * nx[b];
@@ -170,8 +170,7 @@ void BondOperator::diagonal(Vec d) const {
   }
   PetscScalar* da = nullptr;
   LEM_PETSC(VecGetArray(d, &da));
-  for (int r = 0; r < 3 * lattice_.owned; ++r)
-    da[r] = free_[r] ? acc_[r] + ground_ : scale_;
+  for (int r = 0; r < 3 * lattice_.owned; ++r) da[r] = free_[r] ? acc_[r] + ground_ : scale_;
   LEM_PETSC(VecRestoreArray(d, &da));
 }
 

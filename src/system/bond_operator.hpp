@@ -44,12 +44,12 @@ class BondOperator {
  private:
   const DistributedLattice& lattice_;
   double ground_, scale_;
-  std::vector<std::int32_t> i_, j_;    // local node indices, sorted by i
+  std::vector<std::int32_t> i_, j_;  // local node indices, sorted by i
   std::vector<double> k_, nx_, ny_, nz_;
-  std::vector<std::int32_t> slot_;     // local bond -> position in the arrays
-  std::vector<double> free_;           // 1 on free local dofs, 0 on fixed
-  VecHandle x_ghosted_;                // x with fixed dofs zeroed, then ghosts
-  mutable std::vector<double> acc_;    // 3 per local node
+  std::vector<std::int32_t> slot_;   // local bond -> position in the arrays
+  std::vector<double> free_;         // 1 on free local dofs, 0 on fixed
+  VecHandle x_ghosted_;              // x with fixed dofs zeroed, then ghosts
+  mutable std::vector<double> acc_;  // 3 per local node
   MatHandle shell_;
 };
 

@@ -174,9 +174,9 @@ DistributedLattice distribute_lattice(MPI_Comm comm, const Lattice& lattice,
         if (oj != oi) rank_bonds[oj].push_back(static_cast<std::int32_t>(b));
       }
       for (; next >= 0; --next) {
-        auto bytes = make_piece(next, lattice, constraints, partition, faces, old_of_new,
-                                rank_bonds[next])
-                         .pack();
+        auto bytes =
+            make_piece(next, lattice, constraints, partition, faces, old_of_new, rank_bonds[next])
+                .pack();
         rank_bonds[next].clear();
         rank_bonds[next].shrink_to_fit();
         if (next == 0) {

@@ -48,8 +48,7 @@ ElasticSystem::ElasticSystem(DistributedLattice& lattice, const SolverOptions& o
   const int owned = lattice_.owned;
 
   // Ghosted displacement vector: owned dofs, then those of the ghost nodes.
-  std::vector<PetscInt> ghosts(lattice_.global_index.begin() + owned,
-                               lattice_.global_index.end());
+  std::vector<PetscInt> ghosts(lattice_.global_index.begin() + owned, lattice_.global_index.end());
   LEM_PETSC(VecCreateGhostBlock(comm, 3, 3 * owned, PETSC_DECIDE,
                                 static_cast<PetscInt>(ghosts.size()), ghosts.data(), u_.replace()));
   LEM_PETSC(VecDuplicate(u_, b_.replace()));
@@ -296,7 +295,8 @@ SolveReport ElasticSystem::solve(double top_displacement, const EarlyStop* early
   report.preconditioner_built = built;
   if (injected_failure(++solves_))
     throw NumericalError("linear solve did not converge: failure injected by "
-                         "LEM_FAULT_SOLVE_FAIL at solve " + std::to_string(solves_));
+                         "LEM_FAULT_SOLVE_FAIL at solve " +
+                         std::to_string(solves_));
   if (report.reason < 0 || !std::isfinite(report.residual_norm)) {
     std::string hint;
     if (report.reason == KSP_DIVERGED_INDEFINITE_PC || report.reason == KSP_DIVERGED_INDEFINITE_MAT)
@@ -375,8 +375,7 @@ struct ElasticSystem::ConvergenceTest {
     auto* c = static_cast<ConvergenceTest*>(ctx);
     PetscCall(c->inner(ksp, it, rnorm, reason, c->inner_context));
     if (c->early && it == 0 && c->early->restart) c->early->restart();  // cannot throw
-    if (!c->early || *reason != KSP_CONVERGED_ITERATING || it == 0 ||
-        it % c->early->interval != 0)
+    if (!c->early || *reason != KSP_CONVERGED_ITERATING || it == 0 || it % c->early->interval != 0)
       PetscFunctionReturn(0);
     try {
       c->system->update_ghosts();

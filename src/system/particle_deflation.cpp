@@ -78,8 +78,8 @@ ParticleDeflation::ParticleDeflation(const DistributedLattice& lattice, Mat K, K
   if (!any)
     throw InputError("-solver_particle_deflation needs the particle of every node: use a "
                      "cemented sample (-sample_file or -sample_*), not a plain lattice");
-  inner_ = wrap_preconditioner(ksp, this, "per-particle rigid-body deflation", shell_setup,
-                               shell_apply);
+  inner_ =
+      wrap_preconditioner(ksp, this, "per-particle rigid-body deflation", shell_setup, shell_apply);
   LEM_PETSC(KSPSetOperators(ksp, K_, K_));
 
   // The coarse problem is small: factored whole on every rank.

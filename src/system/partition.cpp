@@ -35,8 +35,8 @@ std::uint64_t morton_code(const Point& p, const Box& box) {
   return code;
 }
 
-Partition partition_lattice(const Lattice& lattice, const std::vector<char>& bond_active,
-                            int parts, bool morton) {
+Partition partition_lattice(const Lattice& lattice, const std::vector<char>& bond_active, int parts,
+                            bool morton) {
   const std::size_t nodes = lattice.node_count();
   Partition p;
   p.parts = parts;
@@ -47,9 +47,12 @@ Partition partition_lattice(const Lattice& lattice, const std::vector<char>& bon
     std::uint64_t edges = 0;
     for (std::size_t b = 0; b < lattice.bond_count(); ++b) edges += active(b) ? 2 : 0;
     if (edges > static_cast<std::uint64_t>(std::numeric_limits<idx_t>::max()))
-      throw InputError("the lattice has " + std::to_string(edges / 2) + " bonds in the system: "
-                       "more than the " + std::to_string(std::numeric_limits<idx_t>::max() / 2) +
-                       " that METIS's " + std::to_string(8 * sizeof(idx_t)) + "-bit indices "
+      throw InputError("the lattice has " + std::to_string(edges / 2) +
+                       " bonds in the system: "
+                       "more than the " +
+                       std::to_string(std::numeric_limits<idx_t>::max() / 2) + " that METIS's " +
+                       std::to_string(8 * sizeof(idx_t)) +
+                       "-bit indices "
                        "can partition as one graph");
     // CSR adjacency of the active-bond graph.
     std::vector<idx_t> xadj(nodes + 1, 0);
@@ -119,15 +122,16 @@ std::vector<int> partition_cells(const std::vector<std::int64_t>& weights,
   const std::int64_t scale = total / std::numeric_limits<idx_t>::max() + 1;
   for (std::size_t c = 0; c < cells; ++c) w[c] = static_cast<idx_t>(weights[c] / scale);
   for (std::size_t k = 0; k < adjwgt.size(); ++k)
-    e[k] = static_cast<idx_t>(std::min<std::int64_t>(adjwgt[k], std::numeric_limits<idx_t>::max() / 64));
+    e[k] = static_cast<idx_t>(
+        std::min<std::int64_t>(adjwgt[k], std::numeric_limits<idx_t>::max() / 64));
   idx_t nvtxs = static_cast<idx_t>(cells), ncon = 1, nparts = parts, cut = 0;
   idx_t options[METIS_NOPTIONS];
   METIS_SetDefaultOptions(options);
   options[METIS_OPTION_SEED] = 12345;  // the same partition on every rank and run
   std::vector<idx_t> part(cells, 0);
-  const int status = METIS_PartGraphKway(&nvtxs, &ncon, x.data(), a.data(), w.data(), nullptr,
-                                         e.data(), &nparts, nullptr, nullptr, options, &cut,
-                                         part.data());
+  const int status =
+      METIS_PartGraphKway(&nvtxs, &ncon, x.data(), a.data(), w.data(), nullptr, e.data(), &nparts,
+                          nullptr, nullptr, options, &cut, part.data());
   if (status != METIS_OK)
     throw std::runtime_error("METIS_PartGraphKway failed on the cell graph with status " +
                              std::to_string(status));

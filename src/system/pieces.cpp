@@ -150,8 +150,10 @@ PieceReport PieceFinder::find() const {
     const std::int64_t piece = label[n];
     const std::uint8_t f = l.dof_flags[n];
     int bits = 0;
-    if (f & kLoadedTop) bits |= kTop;
-    else if (f & kFixZ) bits |= kBottom;
+    if (f & kLoadedTop)
+      bits |= kTop;
+    else if (f & kFixZ)
+      bits |= kBottom;
     reach[piece] |= bits;
     size[piece] += 1;
   }

@@ -123,7 +123,8 @@ void RitzDeflation::form_coarse() {
     double diag = E[static_cast<std::size_t>(i) * k + i];
     for (int a = 0; a < n; ++a) {
       const int ia = keep[a];
-      double s = 0.5 * (E[static_cast<std::size_t>(i) * k + ia] + E[static_cast<std::size_t>(ia) * k + i]);
+      double s =
+          0.5 * (E[static_cast<std::size_t>(i) * k + ia] + E[static_cast<std::size_t>(ia) * k + i]);
       for (int c = 0; c < a; ++c) s -= l[c] * factor_[static_cast<std::size_t>(a) * k + c];
       l[a] = s / factor_[static_cast<std::size_t>(a) * k + a];
       diag -= l[a] * l[a];

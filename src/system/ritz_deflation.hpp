@@ -59,7 +59,7 @@ class RitzDeflation {
   PC inner_ = nullptr;  // a reference of our own
   int count_;
   std::vector<VecHandle> W_, KW_;
-  std::vector<Vec> w_, kw_;  // the same, for PETSc's multi-vector calls
+  std::vector<Vec> w_, kw_;     // the same, for PETSc's multi-vector calls
   std::vector<double> factor_;  // lower Cholesky factor of E = W^T K W
   VecHandle work_;
   mutable std::vector<PetscScalar> t_, s_;

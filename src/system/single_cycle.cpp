@@ -39,8 +39,8 @@ void block_rows(int row_blocks, const std::int32_t* __restrict ptr,
   }
 }
 
-using Kernel = void (*)(int, const std::int32_t*, const std::int32_t*, const float*,
-                        const double*, const double*, double*, double);
+using Kernel = void (*)(int, const std::int32_t*, const std::int32_t*, const float*, const double*,
+                        const double*, double*, double);
 
 Kernel kernel_for(int br, int bc) {
   if (br == 6 && bc == 6) return block_rows<6, 6>;
@@ -50,9 +50,7 @@ Kernel kernel_for(int br, int bc) {
   return block_rows<1, 1>;
 }
 
-bool supported_blocks(int br, int bc) {
-  return (br == 6 || br == 3) && (bc == 6 || bc == 3);
-}
+bool supported_blocks(int br, int bc) { return (br == 6 || br == 3) && (bc == 6 || bc == 3); }
 
 // A parallel AIJ matrix with float values in blocks: the owned columns
 // (x's own entries) and the ghost columns (gathered by a scatter), each as
@@ -155,8 +153,7 @@ struct FloatBlockMatrix {
     IsHandle is;
     LEM_PETSC(ISCreateGeneral(PETSC_COMM_SELF, static_cast<PetscInt>(index.size()), index.data(),
                               PETSC_COPY_VALUES, is.replace()));
-    LEM_PETSC(VecCreateSeq(PETSC_COMM_SELF, static_cast<PetscInt>(index.size()),
-                           ghosts.replace()));
+    LEM_PETSC(VecCreateSeq(PETSC_COMM_SELF, static_cast<PetscInt>(index.size()), ghosts.replace()));
     LEM_PETSC(VecScatterCreate(x, is, ghosts, nullptr, scatter.replace()));
   }
 
@@ -192,8 +189,8 @@ struct FloatBlockMatrix {
     PetscInt ng = 0;
     LEM_PETSC(VecGetLocalSize(ghosts, &ng));
     const double rows = static_cast<double>(row_blocks) * br;
-    return memory_bytes() + 8.0 * (local_columns + static_cast<double>(ng) +
-                                   rows * (reads_y ? 2 : 1));
+    return memory_bytes() +
+           8.0 * (local_columns + static_cast<double>(ng) + rows * (reads_y ? 2 : 1));
   }
 };
 
@@ -217,8 +214,8 @@ struct SingleCycle::FloatBonds {
   double ground, scale;
   std::vector<std::int32_t> order;  // bonds sorted by their lower local end
   std::vector<std::int32_t> i, j;
-  std::vector<float> nx, ny, nz;  // unit directions
-  std::vector<float> mx, my, mz;  // sqrt(k) n, the arrays a product reads
+  std::vector<float> nx, ny, nz;   // unit directions
+  std::vector<float> mx, my, mz;   // sqrt(k) n, the arrays a product reads
   std::vector<std::uint8_t> free;  // per local dof
   VecHandle x_ghosted;
   mutable std::vector<double> acc;
@@ -341,19 +338,18 @@ struct SingleCycle::FloatBonds {
   // by them, the last pass (accumulator, x, b, mask read, y written).
   double bytes_per_product() const {
     const double local = static_cast<double>(acc.size()), owned = 3.0 * lattice.owned;
-    return 20.0 * static_cast<double>(i.size()) + 17.0 * owned + 8.0 * 4.0 * local +
-           33.0 * owned;
+    return 20.0 * static_cast<double>(i.size()) + 17.0 * owned + 8.0 * 4.0 * local + 33.0 * owned;
   }
 };
 
 struct SingleCycle::Level {
   FloatBlockMatrix A, P, R;  // A: levels between the finest and the coarsest
   VecHandle own_b, own_x, r;
-  Vec b = nullptr, x = nullptr;  // own_b/own_x, or the shell's vectors (finest)
-  std::vector<float> dinv;  // Jacobi of the smoother
-  double step = 0;          // Chebyshev step of one sweep: x += step D^-1 (b - A x)
-  KSP coarse = nullptr;     // the coarsest level: GAMG's own solver (double)
-  KSP smoother = nullptr;   // the others: GAMG's smoother, probed
+  Vec b = nullptr, x = nullptr;         // own_b/own_x, or the shell's vectors (finest)
+  std::vector<float> dinv;              // Jacobi of the smoother
+  double step = 0;                      // Chebyshev step of one sweep: x += step D^-1 (b - A x)
+  KSP coarse = nullptr;                 // the coarsest level: GAMG's own solver (double)
+  KSP smoother = nullptr;               // the others: GAMG's smoother, probed
   PetscObjectState operator_state = 0;  // of the smoother's matrix when probed
   long long rows = 0;
   double nonzeros = 0;
@@ -365,8 +361,8 @@ SingleCycle::SingleCycle(const DistributedLattice& lattice, double ground, doubl
     : lattice_(lattice), ground_(ground), scale_(scale) {
   LEM_PETSC(KSPGetPC(ksp, &inner_));
   PetscBool mg = PETSC_FALSE;
-  LEM_PETSC(PetscObjectTypeCompareAny(reinterpret_cast<PetscObject>(inner_), &mg, PCGAMG, PCMG,
-                                      ""));
+  LEM_PETSC(
+      PetscObjectTypeCompareAny(reinterpret_cast<PetscObject>(inner_), &mg, PCGAMG, PCMG, ""));
   if (!mg) {
     PCType type = nullptr;
     LEM_PETSC(PCGetType(inner_, &type));
@@ -494,8 +490,8 @@ void SingleCycle::build() {
   {
     char type[8] = "";
     PetscBool set = PETSC_FALSE;
-    LEM_PETSC(PetscOptionsGetString(nullptr, nullptr, "-pc_mg_cycle_type", type, sizeof type,
-                                    &set));
+    LEM_PETSC(
+        PetscOptionsGetString(nullptr, nullptr, "-pc_mg_cycle_type", type, sizeof type, &set));
     cycles_ = set && (type[0] == 'v' || type[0] == 'V') ? 1 : 2;
   }
   levels_.clear();
@@ -530,8 +526,7 @@ void SingleCycle::build() {
     PetscBool cheb = PETSC_FALSE, jacobi = PETSC_FALSE;
     PC jpc = nullptr;
     PetscInt max_it = 0;
-    LEM_PETSC(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(smoother), KSPCHEBYSHEV,
-                                     &cheb));
+    LEM_PETSC(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(smoother), KSPCHEBYSHEV, &cheb));
     LEM_PETSC(KSPGetPC(smoother, &jpc));
     LEM_PETSC(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(jpc), PCJACOBI, &jacobi));
     LEM_PETSC(KSPGetTolerances(smoother, nullptr, nullptr, nullptr, &max_it));
@@ -539,7 +534,8 @@ void SingleCycle::build() {
       throw InputError("-solver_cycle_precision single supports the smoother of the default "
                        "solver only: Chebyshev with Jacobi, one sweep per level "
                        "(-mg_levels_ksp_type chebyshev -mg_levels_pc_type jacobi "
-                       "-mg_levels_ksp_max_it 1); level " + std::to_string(l) + " has another");
+                       "-mg_levels_ksp_max_it 1); level " +
+                       std::to_string(l) + " has another");
     LEM_PETSC(MatCreateVecs(Pmat, nullptr, level->r.replace()));
     level->smoother = smoother;
     probe_smoother(*level);

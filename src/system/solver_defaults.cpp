@@ -22,18 +22,22 @@ struct SolverDefault {
 const SolverDefault kSolverDefaults[] = {
     {"-ksp_type", "cg", "Krylov method (K is symmetric positive definite)"},
     {"-ksp_rtol", "1e-8", "Relative tolerance on the residual norm"},
-    {"-pc_type", "gamg", "Preconditioner: algebraic multigrid with the rigid-body modes as near "
-                         "null space"},
+    {"-pc_type", "gamg",
+     "Preconditioner: algebraic multigrid with the rigid-body modes as near "
+     "null space"},
     {"-pc_gamg_agg_nsmooths", "0", "Plain aggregation (no smoothing of the prolongator)"},
     {"-pc_gamg_coarse_eq_limit", "1000", "Rows of the coarsest grid"},
-    {"-pc_gamg_threshold", "0", "Aggregate over nonzero couplings only: a rebuilt multigrid "
-                                "follows the cracks (broken bonds leave zero blocks in K)"},
-    {"-pc_gamg_reuse_interpolation", "false", "A rebuild aggregates anew instead of keeping the "
-                                              "prolongator of the first build"},
+    {"-pc_gamg_threshold", "0",
+     "Aggregate over nonzero couplings only: a rebuilt multigrid "
+     "follows the cracks (broken bonds leave zero blocks in K)"},
+    {"-pc_gamg_reuse_interpolation", "false",
+     "A rebuild aggregates anew instead of keeping the "
+     "prolongator of the first build"},
     {"-pc_mg_cycle_type", "w", "Multigrid cycle"},
-    {"-mg_levels_ksp_max_it", "1", "Chebyshev sweeps per level (with the coarse grid limit: "
-                                    "30-40 % less solve time than GAMG's defaults at 1.4e6 "
-                                    "bonds)"},
+    {"-mg_levels_ksp_max_it", "1",
+     "Chebyshev sweeps per level (with the coarse grid limit: "
+     "30-40 % less solve time than GAMG's defaults at 1.4e6 "
+     "bonds)"},
     {"-mat_no_inode", "true", "No inode kernels for the AIJ matrix"},
 };
 
@@ -108,10 +112,12 @@ void set_from_options(KSP ksp) {
   if (!once) return;
   const char* prefix = nullptr;
   LEM_PETSC(KSPGetOptionsPrefix(ksp, &prefix));
-  throw InputError("option -" + std::string(prefix ? prefix : "") + "ksp_type = preonly (or "
+  throw InputError("option -" + std::string(prefix ? prefix : "") +
+                   "ksp_type = preonly (or "
                    "none) cannot be used: every solve starts from the previous solution, which "
                    "these refuse (for one application of the preconditioner, use richardson "
-                   "with -" + (prefix ? prefix : "") + "ksp_max_it 1)");
+                   "with -" +
+                   (prefix ? prefix : "") + "ksp_max_it 1)");
 }
 
 // -mat_no_inode must also reach the matrices that GAMG creates inside
@@ -128,42 +134,54 @@ SolverOptions read_solver_options(MPI_Comm comm) {
   {
     OptionGroup g(comm, "Elastic system");
     o.ground_stiffness =
-        g.real("-lattice_ground_stiffness", "Weak spring tying every free degree of freedom "
+        g.real("-lattice_ground_stiffness",
+               "Weak spring tying every free degree of freedom "
                "to its rest position, relative to the mean nodal stiffness.  Phase "
                "patterns and ruptures leave hinged clusters (mechanisms) that make K "
                "singular and the multigrid preconditioner indefinite; 1e-10 removes them "
                "and changes E_eff by < 1e-6 relative (docs/model/cemented-samples.md); 0 "
-               "disables", o.ground_stiffness, 0.0, 1e-3);
+               "disables",
+               o.ground_stiffness, 0.0, 1e-3);
     o.particle_deflation =
-        g.flag("-solver_particle_deflation", "Deflate the six rigid-body modes of every "
+        g.flag("-solver_particle_deflation",
+               "Deflate the six rigid-body modes of every "
                "particle around the preconditioner (a coarse space of 6 unknowns per "
                "particle, solved exactly).  For porous cemented samples, where stiff "
                "particles joined by a few soft bridges make CG slow "
-               "(docs/benchmarks.md); needs a cemented sample", o.particle_deflation);
+               "(docs/benchmarks.md); needs a cemented sample",
+               o.particle_deflation);
     o.solver_operator = g.choice<SolverOperator>(
-        "-solver_operator", "What CG multiplies by: the assembled matrix K, or K applied "
+        "-solver_operator",
+        "What CG multiplies by: the assembled matrix K, or K applied "
         "bond by bond from each bond's stiffness and direction (less memory traffic per "
         "product; the multigrid is built from the assembled K either way)",
         {{"assembled", SolverOperator::assembled}, {"bonds", SolverOperator::bonds}},
         o.solver_operator);
     o.single_cycle = g.choice<bool>(
-        "-solver_cycle_precision", "Precision of the multigrid cycle that preconditions CG: "
+        "-solver_cycle_precision",
+        "Precision of the multigrid cycle that preconditions CG: "
         "double (PETSc's GAMG cycle), or single (the same levels, operators and smoothers "
         "copied to float at every preconditioner build and applied by our own code: about "
         "half the bytes per cycle; CG, its operator and its residual stay in double)",
         {{"double", false}, {"single", true}}, o.single_cycle);
-    o.ritz_deflation = static_cast<int>(g.integer(
-        "-solver_ritz_deflation", "Deflate up to this many slow Ritz vectors of the "
-        "multigrid-preconditioned K around the preconditioner (A-DEF2), learnt from the "
-        "Lanczos vectors of the solves themselves (docs/model/fracture.md); 0: none",
-        o.ritz_deflation, 0, 64));
-    for (const double s : g.positive_reals("-solver_spectrum_solves", "Diagnostic: at these "
+    o.ritz_deflation = static_cast<int>(
+        g.integer("-solver_ritz_deflation",
+                  "Deflate up to this many slow Ritz vectors of the "
+                  "multigrid-preconditioned K around the preconditioner (A-DEF2), learnt from the "
+                  "Lanczos vectors of the solves themselves (docs/model/fracture.md); 0: none",
+                  o.ritz_deflation, 0, 64));
+    for (const double s : g.positive_reals(
+             "-solver_spectrum_solves",
+             "Diagnostic: at these "
              "solves (counted from 1), run one more preconditioned CG that keeps its Lanczos "
              "vectors and write the Ritz values of the preconditioned operator, the residual "
-             "history and the 8 slowest Ritz vectors (docs/guide/running.md)", {}, true))
+             "history and the 8 slowest Ritz vectors (docs/guide/running.md)",
+             {}, true))
       o.spectrum_solves.push_back(static_cast<std::int64_t>(s));
-    o.spectrum_prefix = g.string("-solver_spectrum_prefix", "Diagnostic: path prefix of the "
-                                 "files of -solver_spectrum_solves", o.spectrum_prefix);
+    o.spectrum_prefix = g.string("-solver_spectrum_prefix",
+                                 "Diagnostic: path prefix of the "
+                                 "files of -solver_spectrum_solves",
+                                 o.spectrum_prefix);
   }
   OptionGroup g(comm, "Linear solver (defaults set on PETSc's objects; any -ksp_*, -pc_*, "
                       "-mg_* or -mat_* option overrides them)");

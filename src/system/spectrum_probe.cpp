@@ -98,8 +98,8 @@ void write_bonds(const DistributedLattice& l, const std::string& path) {
   MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, l.comm);
   std::partial_sum(counts.begin(), counts.end() - 1, offsets.begin() + 1);
   std::vector<double> all(rank == 0 ? offsets.back() + counts.back() : 0);
-  MPI_Gatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), offsets.data(),
-              MPI_DOUBLE, 0, l.comm);
+  MPI_Gatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), offsets.data(), MPI_DOUBLE,
+              0, l.comm);
   if (rank != 0) return;
   FILE* f = std::fopen(path.c_str(), "w");
   if (!f) throw InputError("cannot write the spectrum probe's file " + path);
@@ -147,8 +147,7 @@ RitzPairs lanczos_ritz(Mat K, PC pc, Vec b, Vec u0, double rtol, int vectors) {
   LEM_PETSC(VecDot(r, z, &rz));
   rho.push_back(rz);
   LEM_PETSC(VecCopy(z, p));
-  while (out.history.back() > rtol && rz > 0 &&
-         static_cast<int>(alpha.size()) < kMaxIterations) {
+  while (out.history.back() > rtol && rz > 0 && static_cast<int>(alpha.size()) < kMaxIterations) {
     lanczos.emplace_back();
     LEM_PETSC(VecDuplicate(z, lanczos.back().replace()));
     LEM_PETSC(VecCopy(z, lanczos.back()));

@@ -26,8 +26,8 @@ namespace lem {
 
 /// What one preconditioned CG run tells of the preconditioned operator.
 struct RitzPairs {
-  std::vector<double> history;  // |M^-1 r_k| / |M^-1 b|, from k = 0
-  std::vector<double> theta;    // all Ritz values, ascending
+  std::vector<double> history;     // |M^-1 r_k| / |M^-1 b|, from k = 0
+  std::vector<double> theta;       // all Ritz values, ascending
   std::vector<VecHandle> vectors;  // the slowest Ritz vectors, M-orthonormal
 };
 

@@ -151,7 +151,8 @@ TensionConstraints make_tension_constraints(const Lattice& lattice,
     tc.dof_flags[a] |= kFixX | kFixY;
     // Fix the displacement of the far node across the line A-far: the
     // component with the larger lever arm.
-    const double dx = std::fabs(lattice.nodes[far][0] - ax), dy = std::fabs(lattice.nodes[far][1] - ay);
+    const double dx = std::fabs(lattice.nodes[far][0] - ax),
+                 dy = std::fabs(lattice.nodes[far][1] - ay);
     tc.dof_flags[far] |= (dx >= dy) ? kFixY : kFixX;
   }
   for (std::size_t n = 0; n < nodes; ++n) {

@@ -75,8 +75,8 @@ void write_damage_profile(const lem::DistributedLattice& l, const lem::FractureR
     std::string text = "z_low,z_high,broken\n";
     for (int k = 0; k < kSlabs; ++k)
       text += std::to_string(bottom + height * k / kSlabs) + "," +
-              std::to_string(bottom + height * (k + 1) / kSlabs) + "," +
-              std::to_string(broken[k]) + "\n";
+              std::to_string(bottom + height * (k + 1) / kSlabs) + "," + std::to_string(broken[k]) +
+              "\n";
     lem::write_text_file_atomically(path, text);
   });
 }
@@ -94,8 +94,10 @@ int main(int argc, char** argv) {
          return std::make_unique<CountedGlobal>(parts, *label);
        },
        [label](lem::OptionGroup& g) {
-         *label = g.string("-fracture_counted_label", "counted_global: the first word of its "
-                           "report", "counted_global");
+         *label = g.string("-fracture_counted_label",
+                           "counted_global: the first word of its "
+                           "report",
+                           "counted_global");
        }});
   lem::register_fracture_output({"damage_profile.csv", write_damage_profile});
   return lem::fracture_program(argc, argv, "lem_fracture with example extensions\n");

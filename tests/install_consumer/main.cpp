@@ -18,8 +18,8 @@ int main(int argc, char** argv) {
               static_cast<long long>(stats.nodes), static_cast<long long>(stats.bonds),
               moduli.poisson_z, lem::phase_name(lem::Phase::pm));
   // 2x2x2 cubic cells: 63 nodes, 240 nearest-neighbour bonds; nu = 1/3 (docs/model/theory.md).
-  const bool ok = stats.nodes == 63 && stats.bonds == 240 &&
-                  std::abs(moduli.poisson_z - 1.0 / 3.0) < 1e-9;
+  const bool ok =
+      stats.nodes == 63 && stats.bonds == 240 && std::abs(moduli.poisson_z - 1.0 / 3.0) < 1e-9;
   PetscFinalize();
   return ok ? 0 : 1;
 }

@@ -19,7 +19,8 @@ namespace {
 DistributedLattice random_problem(MPI_Comm comm, std::int64_t nodes) {
   SetupReport report;
   return setup_tension_lattice(
-      comm, [&](SampleInfo& info) {
+      comm,
+      [&](SampleInfo& info) {
         RandomLatticeSpec s;
         s.nodes = nodes;
         s.seed = 11;

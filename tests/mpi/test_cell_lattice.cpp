@@ -99,17 +99,20 @@ TEST(CellLattice, BondsAreTheDelaunayEdgesOfItsPoints) {
   std::sort(nodes.begin(), nodes.end(), [](auto& p, auto& q) { return p.id < q.id; });
   std::sort(bonds.begin(), bonds.end(), [](auto& p, auto& q) { return p.id < q.id; });
   ASSERT_EQ(static_cast<std::int64_t>(nodes.size()), target_node_count(spec));
-  for (std::size_t k = 0; k < nodes.size(); ++k) ASSERT_EQ(nodes[k].id, static_cast<std::int64_t>(k));
+  for (std::size_t k = 0; k < nodes.size(); ++k)
+    ASSERT_EQ(nodes[k].id, static_cast<std::int64_t>(k));
 
   using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
   using Vb = CGAL::Triangulation_vertex_base_with_info_3<std::int64_t, Kernel>;
-  using Tds = CGAL::Triangulation_data_structure_3<Vb, CGAL::Delaunay_triangulation_cell_base_3<Kernel>>;
+  using Tds =
+      CGAL::Triangulation_data_structure_3<Vb, CGAL::Delaunay_triangulation_cell_base_3<Kernel>>;
   std::vector<std::pair<Kernel::Point_3, std::int64_t>> input;
   for (const NodeRow& n : nodes) input.emplace_back(Kernel::Point_3(n.x[0], n.x[1], n.x[2]), n.id);
   const CGAL::Delaunay_triangulation_3<Kernel, Tds> dt(input.begin(), input.end());
   std::vector<std::array<std::int64_t, 2>> edges;
   for (auto e = dt.finite_edges_begin(); e != dt.finite_edges_end(); ++e) {
-    const std::int64_t i = e->first->vertex(e->second)->info(), j = e->first->vertex(e->third)->info();
+    const std::int64_t i = e->first->vertex(e->second)->info(),
+                       j = e->first->vertex(e->third)->info();
     edges.push_back({std::min(i, j), std::max(i, j)});
   }
   std::sort(edges.begin(), edges.end());
@@ -125,9 +128,9 @@ TEST(CellLattice, BondsAreTheDelaunayEdgesOfItsPoints) {
   double shortest = 1e300;
   for (const BondRow& m : bonds) {
     const Point &p = nodes[m.i].x, &q = nodes[m.j].x;
-    shortest = std::min(shortest, std::sqrt((p[0] - q[0]) * (p[0] - q[0]) +
-                                            (p[1] - q[1]) * (p[1] - q[1]) +
-                                            (p[2] - q[2]) * (p[2] - q[2])));
+    shortest =
+        std::min(shortest, std::sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
+                                     (p[2] - q[2]) * (p[2] - q[2])));
   }
   EXPECT_GE(shortest, spec.min_separation * spacing * (1 - 1e-12));
   // The serial generator's lattice of the same spec: the same nodes, bonds

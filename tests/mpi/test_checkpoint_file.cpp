@@ -30,7 +30,8 @@ Checkpoint checkpoint_of(const std::vector<std::int64_t>& ids, bool check_field)
   Checkpoint c;
   c.state.tally.steps = 17;
   c.state.batches = 2;
-  c.fingerprint = "ranks=" + std::to_string(world_size()) + "\nnodes=" + std::to_string(kNodes) + "\n";
+  c.fingerprint =
+      "ranks=" + std::to_string(world_size()) + "\nnodes=" + std::to_string(kNodes) + "\n";
   c.damage.bond_events = {4, 9};
   c.damage.bond_batches = {1, 2};
   for (const std::int64_t id : ids)
@@ -53,7 +54,8 @@ std::vector<std::int64_t> strided_ids() {
 // when there are several.
 std::vector<std::int64_t> block_ids() {
   const int readers = world_size() > 1 ? world_size() - 1 : 1;
-  const int reader = world_size() - 2 - world_rank() >= 0 ? world_size() - 2 - world_rank() : (world_size() == 1 ? 0 : -1);
+  const int reader = world_size() - 2 - world_rank() >= 0 ? world_size() - 2 - world_rank()
+                                                          : (world_size() == 1 ? 0 : -1);
   std::vector<std::int64_t> ids;
   if (reader < 0) return ids;
   for (std::int64_t id = kNodes * reader / readers; id < kNodes * (reader + 1) / readers; ++id)
@@ -64,8 +66,7 @@ std::vector<std::int64_t> block_ids() {
 std::string shared_path(const char* name) {
   int pid = ::getpid();
   MPI_Bcast(&pid, 1, MPI_INT, 0, PETSC_COMM_WORLD);
-  return (std::filesystem::temp_directory_path() /
-          ("lem_ckpt_" + std::to_string(pid) + "_" + name))
+  return (std::filesystem::temp_directory_path() / ("lem_ckpt_" + std::to_string(pid) + "_" + name))
       .string();
 }
 

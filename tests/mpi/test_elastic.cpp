@@ -28,7 +28,8 @@ struct Problem {
 Problem make_problem(MPI_Comm comm, const std::function<Lattice()>& build) {
   Problem p;
   p.lattice = setup_tension_lattice(
-      comm, [&](SampleInfo& info) {
+      comm,
+      [&](SampleInfo& info) {
         Lattice l = build();
         info.stats = lattice_stats(l);
         info.affine = affine_moduli(l);
@@ -115,8 +116,9 @@ TEST_F(Elastic, AffineFieldGivesItsPoissonRatioWhateverTheRotationAboutZ) {
   const DistributedLattice& l = p.lattice;
   const double eps = 1e-3;
   const double uniaxial[3][3] = {{-0.3 * eps, 0, 0}, {0, -0.3 * eps, 0}, {0, 0, eps}};
-  const double sheared[3][3] = {
-      {-0.21 * eps, 0.13 * eps, -0.4 * eps}, {0.05 * eps, -0.27 * eps, 0.3 * eps}, {0, 0, eps}};
+  const double sheared[3][3] = {{-0.21 * eps, 0.13 * eps, -0.4 * eps},
+                                {0.05 * eps, -0.27 * eps, 0.3 * eps},
+                                {0, 0, eps}};
   double discrimination = 0;  // largest error of the plain face means
   for (const auto* H : {uniaxial, sheared})
     for (double omega : {0.0, 5 * eps, -0.7 * eps}) {
@@ -139,8 +141,8 @@ TEST_F(Elastic, AffineFieldGivesItsPoissonRatioWhateverTheRotationAboutZ) {
       EXPECT_NEAR(r.strain_xx / H[0][0], 1.0, 1e-12) << "omega " << omega;
       EXPECT_NEAR(r.strain_yy / H[1][1], 1.0, 1e-12) << "omega " << omega;
       EXPECT_NEAR(r.poisson_ratio / nu, 1.0, 1e-12) << "omega " << omega;
-      discrimination = std::max(
-          discrimination, std::fabs(face_mean_poisson_ratio(l, u, r.strain_zz) / nu - 1.0));
+      discrimination = std::max(discrimination,
+                                std::fabs(face_mean_poisson_ratio(l, u, r.strain_zz) / nu - 1.0));
     }
   // The face means of this lattice do feel the rotation and the shears.
   EXPECT_GT(discrimination, 1e-3);
@@ -151,8 +153,7 @@ TEST_F(Elastic, FccBlockWithUnlikeFacesRecoversAnalyticPoissonRatio) {
   // faces) carry the two different site patterns, whose centroids are
   // 1/9 half cell apart.  The exact solution is the homogeneous strain plus
   // whatever rigid rotation the anchoring constraints impose; nu = 1/3.
-  Problem p =
-      make_problem(PETSC_COMM_WORLD, [] { return make_fcc_block({5, 9, 8}, 1.0, 1.0); });
+  Problem p = make_problem(PETSC_COMM_WORLD, [] { return make_fcc_block({5, 9, 8}, 1.0, 1.0); });
   const Solved s = solve_exact(p, 1e-3);
   expect_fcc_moduli(s.response, 1e-8);
   EXPECT_NEAR(s.response.strain_xx / s.response.strain_yy, 1.0, 1e-8);
@@ -189,7 +190,8 @@ TEST_F(Elastic, MatrixEqualsDenseReferenceAssembly) {
   for (std::size_t b = 0; b < global.bond_count(); ++b) {
     const auto& bond = global.bonds[b];
     double n[3];
-    for (int c = 0; c < 3; ++c) n[c] = (global.nodes[bond.j][c] - global.nodes[bond.i][c]) / global.bond_length(b);
+    for (int c = 0; c < 3; ++c)
+      n[c] = (global.nodes[bond.j][c] - global.nodes[bond.i][c]) / global.bond_length(b);
     for (int r = 0; r < 3; ++r)
       for (int c = 0; c < 3; ++c) {
         const double v = global.stiffness[b] * n[r] * n[c];
@@ -226,7 +228,8 @@ TEST_F(Elastic, MatrixEqualsDenseReferenceAssembly) {
             if (l.global_index[m] == g) col_node = m;
           const bool col_fixed = l.dof_flags[col_node] & (1 << b);
           double expected = at(l.node_id[n], a, id, b);
-          if (row_fixed || col_fixed) expected = (same && a == b && row_fixed) ? system.constrained_diagonal() : 0.0;
+          if (row_fixed || col_fixed)
+            expected = (same && a == b && row_fixed) ? system.constrained_diagonal() : 0.0;
           worst = std::max(worst, std::fabs(v - expected));
         }
     }
@@ -243,8 +246,10 @@ TEST_F(Elastic, InPlaceStiffnessChangeKeepsPatternAndEqualsFreshAssembly) {
   // double every 11th.
   for (int b = 0; b < p.lattice.local_bonds(); ++b) {
     const auto id = p.lattice.bond_id[b];
-    if (id % 7 == 0) system.set_bond_stiffness(b, 0.0);
-    else if (id % 11 == 0) system.set_bond_stiffness(b, 2.0 * p.lattice.bond_stiffness[b]);
+    if (id % 7 == 0)
+      system.set_bond_stiffness(b, 0.0);
+    else if (id % 11 == 0)
+      system.set_bond_stiffness(b, 2.0 * p.lattice.bond_stiffness[b]);
   }
   system.finish_updates();
   MatInfo after;
@@ -305,8 +310,8 @@ TEST_F(Elastic, GroundSpringsRemoveHingedClustersWithoutChangingTheModulus) {
   const double h = 0.02;
   const std::int32_t first = static_cast<std::int32_t>(hinged.node_count());
   for (const Point& o : {Point{h, 0, 0}, Point{0, h, 0}, Point{0, 0, h}})
-    hinged.nodes.push_back({base.nodes[hinge][0] + o[0], base.nodes[hinge][1] + o[1],
-                            base.nodes[hinge][2] + o[2]});
+    hinged.nodes.push_back(
+        {base.nodes[hinge][0] + o[0], base.nodes[hinge][1] + o[1], base.nodes[hinge][2] + o[2]});
   const std::int32_t tet[4] = {hinge, first, first + 1, first + 2};
   for (int i = 0; i < 4; ++i)
     for (int j = i + 1; j < 4; ++j) {
@@ -454,10 +459,10 @@ TEST_F(Elastic, HalvedFaceBondsRemoveTheStiffSkinOfTheRandomLattice) {
   // Measured (2026-11-26, 1 and 2 ranks): E/E^phi 2.531 -> 2.418 whole,
   // 2.223 -> 2.275 halved; face/inside 2.52, 2.36 whole, 1.53, 1.41 halved.
   EXPECT_LT(fine.young, 0.97 * coarse.young);  // the skin's share falls
-  EXPECT_LT(std::fabs(fine_halved.young - coarse_halved.young),
-            0.5 * (coarse.young - fine.young));
+  EXPECT_LT(std::fabs(fine_halved.young - coarse_halved.young), 0.5 * (coarse.young - fine.young));
   EXPECT_LT(coarse_halved.young, 0.93 * coarse.young);
-  for (const auto& [whole, halved] : {std::pair{coarse, coarse_halved}, std::pair{fine, fine_halved}}) {
+  for (const auto& [whole, halved] :
+       {std::pair{coarse, coarse_halved}, std::pair{fine, fine_halved}}) {
     EXPECT_GT(whole.lateral_over_inside, 2.0);
     EXPECT_GT(halved.lateral_over_inside, 1.0);
     EXPECT_LT(halved.lateral_over_inside - 1.0, 0.4 * (whole.lateral_over_inside - 1.0));

@@ -26,7 +26,8 @@ namespace {
 DistributedLattice make_problem(const std::function<Lattice()>& build) {
   SetupReport report;
   return setup_tension_lattice(
-      PETSC_COMM_WORLD, [&](SampleInfo& info) {
+      PETSC_COMM_WORLD,
+      [&](SampleInfo& info) {
         Lattice l = build();
         info.stats = lattice_stats(l);
         info.affine = affine_moduli(l);
@@ -127,7 +128,8 @@ TEST_F(FractureParts, DecidedBatchNeedsEveryBondOutsideItsError) {
   double f = 0;  // the bulk threshold
   for (int b = 0; b < l.local_bonds(); ++b) f = std::max(f, l.bond_strength[b]);
   MPI_Allreduce(MPI_IN_PLACE, &f, 1, MPI_DOUBLE, MPI_MAX, l.comm);
-  auto shifted = [&](const std::vector<double>& field, double fraction) {  // every force off by fraction f
+  auto shifted = [&](const std::vector<double>& field,
+                     double fraction) {  // every force off by fraction f
     std::vector<double> e = field;
     for (double& v : e) v -= fraction * f;
     return e;
@@ -156,7 +158,6 @@ TEST_F(FractureParts, DecidedBatchNeedsEveryBondOutsideItsError) {
   // = 29; smaller forces with the same error, sooner.
   EXPECT_LE(bounded, 29);
   EXPECT_GE(bounded, 16);
-
 }
 
 // The error of a force is not its own change: a bond whose force hardly
@@ -487,6 +488,5 @@ TEST_F(FractureParts, PatchSolveApproachesTheGlobalFieldAsThePatchGrows) {
   int rank = 0;
   MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
   if (rank == 0)
-    std::printf("patch errors at R = 2, 4, 7 a: %.3g %.3g %.3g\n", errors[0], errors[1],
-                errors[2]);
+    std::printf("patch errors at R = 2, 4, 7 a: %.3g %.3g %.3g\n", errors[0], errors[1], errors[2]);
 }

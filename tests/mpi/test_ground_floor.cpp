@@ -44,7 +44,8 @@ TEST(Agreement, NoErrorReturnsEverywhere) {
 TEST(Agreement, ErrorOfTheLastRankReachesEveryRankWithItsType) {
   const int last = world_size() - 1;
   EXPECT_EQ(agreed([&] {
-              if (world_rank() == last) throw NumericalError("diverged on rank " + std::to_string(last));
+              if (world_rank() == last)
+                throw NumericalError("diverged on rank " + std::to_string(last));
             }),
             std::make_pair(2, "diverged on rank " + std::to_string(last)));
   EXPECT_EQ(agreed([&] {
@@ -58,7 +59,8 @@ TEST(Agreement, ErrorOfTheLastRankReachesEveryRankWithItsType) {
                IoError);
   EXPECT_THROW(run_collectively(PETSC_COMM_WORLD,
                                 [&] {
-                                  if (world_rank() == last) throw std::invalid_argument("bad slice");
+                                  if (world_rank() == last)
+                                    throw std::invalid_argument("bad slice");
                                 }),
                std::invalid_argument);
 }
@@ -178,7 +180,8 @@ TEST(Raii, ElasticSystemConstructorThrowingLeaksNothing) {
 // one MPI_Allgatherv.
 TEST(Transfers, PiecesGiveTheSameValues) {
   std::vector<double> mine(5 + 3 * world_rank());
-  for (std::size_t i = 0; i < mine.size(); ++i) mine[i] = 100.0 * world_rank() + static_cast<double>(i);
+  for (std::size_t i = 0; i < mine.size(); ++i)
+    mine[i] = 100.0 * world_rank() + static_cast<double>(i);
   EXPECT_EQ(allgather(PETSC_COMM_WORLD, mine, 0), allgather(PETSC_COMM_WORLD, mine));
   std::vector<double> values = mine;
   broadcast(PETSC_COMM_WORLD, values, world_size() - 1, 7);

@@ -165,8 +165,8 @@ bool stored_as_int64(hid_t file, const std::string& path) {
   const hid_t dset = H5Dopen2(file, path.c_str(), H5P_DEFAULT);
   if (dset < 0) return false;
   const hid_t type = H5Dget_type(dset);
-  const bool ok = H5Tget_class(type) == H5T_INTEGER && H5Tget_size(type) == 8 &&
-                  H5Tget_sign(type) == H5T_SGN_2;
+  const bool ok =
+      H5Tget_class(type) == H5T_INTEGER && H5Tget_size(type) == 8 && H5Tget_sign(type) == H5T_SGN_2;
   H5Tclose(type);
   H5Dclose(dset);
   return ok;
@@ -236,7 +236,8 @@ const std::set<std::string> kWritten = {"lattice.h5", "lattice.xmf", "lattice_no
 
 std::set<std::string> directory_listing(const std::string& dir) {
   std::set<std::string> names;
-  for (const auto& entry : fs::directory_iterator(dir)) names.insert(entry.path().filename().string());
+  for (const auto& entry : fs::directory_iterator(dir))
+    names.insert(entry.path().filename().string());
   return names;
 }
 
@@ -398,7 +399,8 @@ TEST_F(Hdf5Writer, XdmfReferencesEveryDatasetWithItsShape) {
   for (const std::string* text : {&xmf, &nodes_xmf}) {
     EXPECT_NE(text->find("<Xdmf Version=\"3.0\">"), std::string::npos);
     EXPECT_EQ(text->find("<Grid "), text->rfind("<Grid ")) << "more than one grid";
-    EXPECT_EQ(text->find(dir_), std::string::npos) << "the .h5 must be referenced by file name only";
+    EXPECT_EQ(text->find(dir_), std::string::npos)
+        << "the .h5 must be referenced by file name only";
   }
   EXPECT_NE(xmf.find("<Grid Name=\"bonds\""), std::string::npos);
   EXPECT_NE(xmf.find("TopologyType=\"Polyline\""), std::string::npos);
@@ -426,9 +428,9 @@ TEST_F(Hdf5Writer, XdmfReferencesEveryDatasetWithItsShape) {
     }
   const hid_t file = H5Fopen((stem_ + ".h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   ASSERT_GE(file, 0);
-  for (const char* path : {"/nodes/coordinates", "/nodes/id", "/nodes/vertices",
-                           "/nodes/displacement", "/nodes/pinned", "/bonds/connectivity",
-                           "/bonds/id", "/bonds/force", "/bonds/direction"}) {
+  for (const char* path :
+       {"/nodes/coordinates", "/nodes/id", "/nodes/vertices", "/nodes/displacement",
+        "/nodes/pinned", "/bonds/connectivity", "/bonds/id", "/bonds/force", "/bonds/direction"}) {
     ASSERT_EQ(dims_of.count(path), 1u) << path << " is not referenced by the .xmf";
     std::ostringstream expected;
     const auto shape = shape_of(file, path);
@@ -460,8 +462,8 @@ TEST_F(Hdf5Writer, NoBondsAnywhereGivesEmptyBondDatasets) {
   const lem::Provenance provenance = lem::collect_provenance(PETSC_COMM_WORLD, "empty");
   lem::BondSlice none;
   none.fields = {{"force", 1, {}}};
-  ASSERT_NO_THROW(lem::write_lattice_fields(PETSC_COMM_WORLD, stem_, make_nodes(1.0), none,
-                                            provenance, {}));
+  ASSERT_NO_THROW(
+      lem::write_lattice_fields(PETSC_COMM_WORLD, stem_, make_nodes(1.0), none, provenance, {}));
   if (world_rank() == 0) {
     const hid_t file = H5Fopen((stem_ + ".h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
     ASSERT_GE(file, 0);
@@ -495,7 +497,8 @@ TEST_F(Hdf5Writer, UnwritablePathThrowsInputErrorOnEveryRank) {
       message = e.what();
     }
     EXPECT_TRUE(input_error) << stem << ": " << message;
-    EXPECT_NE(message.find(stem), std::string::npos) << "message does not name the path: " << message;
+    EXPECT_NE(message.find(stem), std::string::npos)
+        << "message does not name the path: " << message;
   }
   if (world_rank() == 0) {
     EXPECT_EQ(directory_listing(dir_), (std::set<std::string>{"plain_file"}));

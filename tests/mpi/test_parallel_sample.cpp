@@ -82,8 +82,8 @@ TEST(ParallelSample, TheSameFileOnEveryRankCount) {
     MPI_Comm_split(PETSC_COMM_WORLD, world_rank() / size, world_rank(), &part);
     SampleBlock b = build_cemented_sample_block(part, little_spec());
     b.description.provenance.program = "test";
-    const std::string stem = dir + "/np" + std::to_string(size) + "_" +
-                             std::to_string(world_rank() / size);
+    const std::string stem =
+        dir + "/np" + std::to_string(size) + "_" + std::to_string(world_rank() / size);
     write_sample_block(part, stem, b);
     MPI_Barrier(PETSC_COMM_WORLD);
     files.push_back(read_sample_file(stem + ".h5"));
@@ -103,7 +103,8 @@ TEST(ParallelSample, TheSameFileOnEveryRankCount) {
     ASSERT_EQ(a.lattice.bonds.size(), b.lattice.bonds.size());
     for (std::size_t m = 0; m < a.lattice.bonds.size(); ++m)
       ASSERT_TRUE(a.lattice.bonds[m].i == b.lattice.bonds[m].i &&
-                  a.lattice.bonds[m].j == b.lattice.bonds[m].j) << "bond " << m;
+                  a.lattice.bonds[m].j == b.lattice.bonds[m].j)
+          << "bond " << m;
     EXPECT_TRUE(same_bits(a.node_volume, b.node_volume));
     EXPECT_TRUE(same_bits(a.node_phases.particle, b.node_phases.particle));
     EXPECT_TRUE(same_bits(a.node_phases.matrix, b.node_phases.matrix));
@@ -134,8 +135,8 @@ TEST(ParallelSample, AgreesWithTheSerialStagesOnItsLattice) {
   for (std::size_t n = 0; n < serial.node_volume.size(); ++n)
     ASSERT_NEAR(parallel.node_volume[n], serial.node_volume[n], 1e-13 * serial.node_volume[n])
         << "node " << n;
-  serial.node_phases = AggregateGeometry(serial.lattice.box, serial.particles, {})
-                           .classify(serial.lattice.nodes);
+  serial.node_phases =
+      AggregateGeometry(serial.lattice.box, serial.particles, {}).classify(serial.lattice.nodes);
   serial.stats.nodes_per_particle =
       static_cast<double>(std::count_if(serial.node_phases.particle.begin(),
                                         serial.node_phases.particle.end(),
@@ -151,7 +152,9 @@ TEST(ParallelSample, AgreesWithTheSerialStagesOnItsLattice) {
   EXPECT_EQ(parallel.node_phases.matrix, serial.node_phases.matrix);
   EXPECT_EQ(parallel.bond_phase, serial.bond_phase);
   EXPECT_EQ(ps.bonds_per_phase, ss.bonds_per_phase);
-  for (const auto& [p, s] : {std::pair{ps.rho_p, ss.rho_p}, {ps.rho_m, ss.rho_m}, {ps.rho_v, ss.rho_v},
+  for (const auto& [p, s] : {std::pair{ps.rho_p, ss.rho_p},
+                             {ps.rho_m, ss.rho_m},
+                             {ps.rho_v, ss.rho_v},
                              {ps.nodes_per_particle, ss.nodes_per_particle},
                              {ps.bonds_per_particle, ss.bonds_per_particle},
                              {ps.interface_ratio, ss.interface_ratio},
@@ -159,7 +162,8 @@ TEST(ParallelSample, AgreesWithTheSerialStagesOnItsLattice) {
                              {ps.bridges_per_particle, ss.bridges_per_particle}})
     EXPECT_NEAR(p, s, 1e-12 * std::fabs(s));
   for (int k = 0; k < kPhaseCount; ++k)
-    EXPECT_NEAR(ps.bond_volume_fraction[k], ss.bond_volume_fraction[k], 1e-12) << phase_name(Phase(k));
+    EXPECT_NEAR(ps.bond_volume_fraction[k], ss.bond_volume_fraction[k], 1e-12)
+        << phase_name(Phase(k));
   EXPECT_EQ(ps.bridges, ss.bridges);
   EXPECT_EQ(ps.eligible_pairs, ss.eligible_pairs);
   // The sample is a real one: calibrated matrix (to the resolution of so

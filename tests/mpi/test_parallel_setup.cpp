@@ -34,19 +34,25 @@ struct BondRow {
 };
 
 // Every rank's owned nodes and reported bonds, by id (a test may gather).
-void collect(const DistributedLattice& l, std::vector<NodeRow>& nodes, std::vector<BondRow>& bonds) {
+void collect(const DistributedLattice& l, std::vector<NodeRow>& nodes,
+             std::vector<BondRow>& bonds) {
   std::vector<NodeRow> my_nodes;
   for (int n = 0; n < l.owned; ++n)
-    my_nodes.push_back({l.node_id[n], l.coords[n], l.node_volume[n], l.node_particle[n],
-                        l.dof_flags[n], l.faces[n], {0, 0}});
+    my_nodes.push_back({l.node_id[n],
+                        l.coords[n],
+                        l.node_volume[n],
+                        l.node_particle[n],
+                        l.dof_flags[n],
+                        l.faces[n],
+                        {0, 0}});
   std::vector<BondRow> my_bonds;
   for (int b = 0; b < l.local_bonds(); ++b)
     if (l.bond_reported[b]) {
       const auto [p, q] = l.bond_ends[b];
       std::int64_t i = l.node_id[p], j = l.node_id[q];
       if (i > j) std::swap(i, j);
-      my_bonds.push_back({l.bond_id[b], i, j, l.bond_stiffness[b], l.bond_strength[b],
-                          l.bond_tag[b], {0}});
+      my_bonds.push_back(
+          {l.bond_id[b], i, j, l.bond_stiffness[b], l.bond_strength[b], l.bond_tag[b], {0}});
     }
   nodes = allgather(PETSC_COMM_WORLD, my_nodes);
   bonds = allgather(PETSC_COMM_WORLD, my_bonds);

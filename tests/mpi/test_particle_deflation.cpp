@@ -54,7 +54,8 @@ Lattice particle_lattice(std::int64_t nodes) {
 DistributedLattice distributed(MPI_Comm comm, const Lattice& lattice) {
   SetupReport report;
   return setup_tension_lattice(
-      comm, [&](SampleInfo& info) {
+      comm,
+      [&](SampleInfo& info) {
         info.stats = lattice_stats(lattice);
         info.affine = affine_moduli(lattice);
         return lattice;
@@ -140,7 +141,8 @@ TEST_F(Deflation, SameSolutionAsThePlainMultigridInFewerIterations) {
 
 TEST_F(Deflation, SameSolutionOnAllRanksAndOnOne) {
   const Lattice l = particle_lattice(4000);
-  DistributedLattice wide = distributed(PETSC_COMM_WORLD, l), alone = distributed(PETSC_COMM_SELF, l);
+  DistributedLattice wide = distributed(PETSC_COMM_WORLD, l),
+                     alone = distributed(PETSC_COMM_SELF, l);
   ElasticSystem sw(wide, deflated(exact)), sa(alone, deflated(exact));
   sw.assemble();
   sa.assemble();

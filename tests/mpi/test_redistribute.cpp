@@ -38,7 +38,8 @@ TEST(Redistribute, ItemsReachTheirRankInSourceOrderInAnyRoundSize) {
   for (const std::uint64_t round_bytes : {kRoundBytes, std::uint64_t(40)}) {
     const std::vector<Item> mine = items_of(world_rank());
     std::vector<int> to(mine.size());
-    for (std::size_t k = 0; k < mine.size(); ++k) to[k] = destination(world_rank(), static_cast<int>(k));
+    for (std::size_t k = 0; k < mine.size(); ++k)
+      to[k] = destination(world_rank(), static_cast<int>(k));
     std::vector<int> from;
     const std::vector<Item> got = route(PETSC_COMM_WORLD, mine, to, &from, round_bytes);
     std::vector<Item> expected;
@@ -65,7 +66,9 @@ TEST(Redistribute, QuestionsComeBackInTheOrderAsked) {
   // 1 003 ids dealt out by a rule that is not by block: id owned by
   // (id * 5 + 2) % ranks; every rank asks in its own order, once twice.
   const std::int64_t total = 1003;
-  const auto owner_of = [&](std::int64_t id) { return static_cast<int>((id * 5 + 2) % world_size()); };
+  const auto owner_of = [&](std::int64_t id) {
+    return static_cast<int>((id * 5 + 2) % world_size());
+  };
   std::vector<std::int64_t> asked;
   std::vector<int> owners;
   for (std::int64_t id = world_rank(); id < total; id += 3) asked.push_back((id * 11) % total);
@@ -73,9 +76,8 @@ TEST(Redistribute, QuestionsComeBackInTheOrderAsked) {
   for (const std::int64_t id : asked) owners.push_back(owner_of(id));
   // Each owner answers 3 * id + its rank.
   const std::vector<std::int64_t> values =
-      ask<std::int64_t>(PETSC_COMM_WORLD, asked, owners, [&](std::int64_t id) {
-        return 3 * id + world_rank();
-      });
+      ask<std::int64_t>(PETSC_COMM_WORLD, asked, owners,
+                        [&](std::int64_t id) { return 3 * id + world_rank(); });
   ASSERT_EQ(values.size(), asked.size());
   for (std::size_t k = 0; k < asked.size(); ++k)
     EXPECT_EQ(values[k], 3 * asked[k] + owner_of(asked[k])) << asked[k];

@@ -46,7 +46,8 @@ Lattice block_lattice(std::int64_t nodes) {
 DistributedLattice distributed(MPI_Comm comm, const Lattice& lattice) {
   SetupReport report;
   return setup_tension_lattice(
-      comm, [&](SampleInfo& info) {
+      comm,
+      [&](SampleInfo& info) {
         info.stats = lattice_stats(lattice);
         info.affine = affine_moduli(lattice);
         return lattice;
@@ -113,7 +114,8 @@ TEST_F(RitzDeflationTest, FollowsInPlaceChangesWithItsMultigridReused) {
   };
   damage(lp, plain);
   damage(ld, with);
-  const int its_plain = plain.solve(1.5e-4).iterations, its_deflated = with.solve(1.5e-4).iterations;
+  const int its_plain = plain.solve(1.5e-4).iterations,
+            its_deflated = with.solve(1.5e-4).iterations;
   EXPECT_NEAR(with.response().young_modulus / plain.response().young_modulus, 1.0, 1e-7);
   EXPECT_LT(worst_tension_difference(ld, with, lp, plain), 1e-6);
   // 33 against 114 iterations on 1 rank, 32 against 114 on 2: the first

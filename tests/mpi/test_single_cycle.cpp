@@ -20,7 +20,8 @@ namespace {
 DistributedLattice random_problem(MPI_Comm comm, std::int64_t nodes) {
   SetupReport report;
   return setup_tension_lattice(
-      comm, [&](SampleInfo& info) {
+      comm,
+      [&](SampleInfo& info) {
         RandomLatticeSpec s;
         s.nodes = nodes;
         s.seed = 5;
@@ -167,8 +168,7 @@ TEST(SingleCycle, OptionIsValidated) {
     ElasticSystem system(lattice, single_options());
     ADD_FAILURE() << "no error for two sweeps";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("-mg_levels_ksp_max_it 2"), std::string::npos)
-        << e.what();
+    EXPECT_NE(std::string(e.what()).find("-mg_levels_ksp_max_it 2"), std::string::npos) << e.what();
   }
   PetscOptionsClearValue(nullptr, "-mg_levels_ksp_max_it");
 }

@@ -18,7 +18,8 @@ namespace {
 // rho, on one side of its centre plane.
 double half_ball_in_cylinder(double r, double rho) {
   const double s0 = std::sqrt(r * r - rho * rho);
-  return std::numbers::pi * (rho * rho * s0 + (r * r * r - r * r * r / 3) - (r * r * s0 - s0 * s0 * s0 / 3));
+  return std::numbers::pi *
+         (rho * rho * s0 + (r * r * r - r * r * r / 3) - (r * r * s0 - s0 * s0 * s0 / 3));
 }
 }  // namespace
 
@@ -58,13 +59,13 @@ TEST(Phases, HandMadeTwoParticleSample) {
   const std::vector<Sphere> particles{{{0.9, 1, 1}, 0.5}, {{2.1, 1, 1}, 0.5}};  // gap 0.2
   AggregateGeometry g(box, particles, {Bridge{0, 1, 0.6}});
   const std::vector<Point> nodes{
-      {0.9, 1, 1},    // 0: particle 0
-      {0.7, 1, 1},    // 1: particle 0
-      {2.1, 1, 1},    // 2: particle 1
-      {1.5, 1, 1},    // 3: matrix (bridge axis, between the particles)
-      {1.5, 1.25, 1}, // 4: matrix (radius 0.3 there)
-      {1.5, 1.4, 1},  // 5: void (outside the bridge)
-      {0.2, 0.2, 0.2} // 6: void
+      {0.9, 1, 1},     // 0: particle 0
+      {0.7, 1, 1},     // 1: particle 0
+      {2.1, 1, 1},     // 2: particle 1
+      {1.5, 1, 1},     // 3: matrix (bridge axis, between the particles)
+      {1.5, 1.25, 1},  // 4: matrix (radius 0.3 there)
+      {1.5, 1.4, 1},   // 5: void (outside the bridge)
+      {0.2, 0.2, 0.2}  // 6: void
   };
   const NodePhases np = g.classify(nodes);
   EXPECT_EQ(np.particle[0], 0);
@@ -89,8 +90,13 @@ TEST(Phases, VoidRulesOnTheHandMadeSample) {
   box.hi = {3, 2, 2};
   const std::vector<Sphere> particles{{{0.9, 1, 1}, 0.5}, {{2.1, 1, 1}, 0.5}};
   const NodePhases np = AggregateGeometry(box, particles, {Bridge{0, 1, 0.6}})
-                            .classify({{0.9, 1, 1}, {0.7, 1, 1}, {2.1, 1, 1}, {1.5, 1, 1},
-                                       {1.5, 1.25, 1}, {1.5, 1.4, 1}, {0.2, 0.2, 0.2}});
+                            .classify({{0.9, 1, 1},
+                                       {0.7, 1, 1},
+                                       {2.1, 1, 1},
+                                       {1.5, 1, 1},
+                                       {1.5, 1.25, 1},
+                                       {1.5, 1.4, 1},
+                                       {0.2, 0.2, 0.2}});
   auto counts = [&](VoidRule rule) {
     std::array<int, kPhaseCount> n{};
     for (std::int32_t a = 0; a < 7; ++a)
@@ -130,7 +136,8 @@ struct CubicSample {
     box.hi = {3.3, 3.3, 3.3};
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j)
-        for (int k = 0; k < 3; ++k) particles.push_back({{0.55 + 1.1 * i, 0.55 + 1.1 * j, 0.55 + 1.1 * k}, 0.5});
+        for (int k = 0; k < 3; ++k)
+          particles.push_back({{0.55 + 1.1 * i, 0.55 + 1.1 * j, 0.55 + 1.1 * k}, 0.5});
     // Random points: a regular grid aligned with the bridges would measure
     // the fraction in coarse steps.
     std::mt19937_64 rng(1);

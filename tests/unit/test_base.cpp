@@ -108,8 +108,7 @@ TEST_F(Files, ASecondLockOnTheOutputDirectoryIsRefused) {
       const OutputLock second(MPI_COMM_SELF, dir);
       ADD_FAILURE() << "a second lock was granted";
     } catch (const InputError& e) {
-      EXPECT_NE(std::string(e.what()).find("in use by another run"), std::string::npos)
-          << e.what();
+      EXPECT_NE(std::string(e.what()).find("in use by another run"), std::string::npos) << e.what();
     }
   }
   const OutputLock again(MPI_COMM_SELF, dir);  // released with its holder
@@ -196,7 +195,7 @@ TEST_F(Files, ReplacementCutBetweenItsTwoRenamesIsFinished) {
   fs::create_directories(staging);
   prepare_staging(dir);
   committed(staging, "new\n");
-  fs::rename(dir, staging + "/.replaced");  // the first rename; then killed
+  fs::rename(dir, staging + "/.replaced");    // the first rename; then killed
   const OutputLock lock(MPI_COMM_SELF, dir);  // the next run makes the folder again
   EXPECT_NE(finish_replacement(dir, own_names).find("in place"), std::string::npos);
   EXPECT_EQ(read(dir + "/curve.csv"), "new\n");

@@ -53,7 +53,8 @@ TEST(CementedSample, BondPhasesFollowTheirEndNodes) {
   for (auto n : s.stats.bonds_per_phase) counted += n;
   EXPECT_EQ(counted, s.stats.bonds);
   for (std::size_t b = 0; b < s.lattice.bond_count(); ++b)
-    ASSERT_EQ(s.bond_phase[b], bond_phase(s.node_phases, s.lattice.bonds[b].i, s.lattice.bonds[b].j));
+    ASSERT_EQ(s.bond_phase[b],
+              bond_phase(s.node_phases, s.lattice.bonds[b].i, s.lattice.bonds[b].j));
 }
 
 TEST(CementedSample, MechanicalLatticeDropsVoidBondsAndUsesPhaseModuli) {
@@ -89,7 +90,7 @@ TEST(CementedSample, MatrixStageCanBeRepeatedOnTheSameGeometry) {
   more.matrix_fraction = 0.2;
   add_matrix(s, more);
   EXPECT_NEAR(s.stats.rho_m, 0.2, 0.2e-3);
-  EXPECT_DOUBLE_EQ(s.stats.rho_p, p_before);  // particles untouched
+  EXPECT_DOUBLE_EQ(s.stats.rho_p, p_before);                                 // particles untouched
   EXPECT_GT(s.stats.interface_ratio, small_sample().stats.interface_ratio);  // more coverage
   BridgeSpec back;
   back.matrix_fraction = 0.13;
@@ -113,8 +114,10 @@ TEST(CementedSample, VoidRulesDifferOnlyInBondsWithOneEndInAPore) {
   // particle [0] or in the matrix [1].
   std::int64_t two_void = 0, one_void[2] = {0, 0};
   for (const auto& [i, j] : any.lattice.bonds) {
-    if (is_void(i) && is_void(j)) ++two_void;
-    else if (is_void(i) || is_void(j)) ++one_void[np.particle[is_void(i) ? j : i] >= 0 ? 0 : 1];
+    if (is_void(i) && is_void(j))
+      ++two_void;
+    else if (is_void(i) || is_void(j))
+      ++one_void[np.particle[is_void(i) ? j : i] >= 0 ? 0 : 1];
   }
   const auto& a = any.stats.bonds_per_phase;
   const auto& c = both.stats.bonds_per_phase;
@@ -135,7 +138,8 @@ TEST(CementedSample, ReproducibleWithSeeds) {
   EXPECT_EQ(a.lattice.nodes, b.lattice.nodes);
   EXPECT_EQ(a.bond_phase, b.bond_phase);
   ASSERT_EQ(a.bridges.size(), b.bridges.size());
-  for (std::size_t k = 0; k < a.bridges.size(); ++k) EXPECT_EQ(a.bridges[k].lambda, b.bridges[k].lambda);
+  for (std::size_t k = 0; k < a.bridges.size(); ++k)
+    EXPECT_EQ(a.bridges[k].lambda, b.bridges[k].lambda);
   spec.packing.seed = 6;
   EXPECT_NE(build_cemented_sample(spec).particles[0].centre, a.particles[0].centre);
 }

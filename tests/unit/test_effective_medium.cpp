@@ -27,7 +27,8 @@ TEST(HashinShtrikman, StiffestReferenceGivesTheUpperBound) {
     const Isotropic phases[2] = {one, two};
     const Isotropic r = hashin_shtrikman(f, phases, 2, one);
     EXPECT_NEAR(r.bulk, k1 + f2 / (1 / (k2 - k1) + 3 * f1 / (3 * k1 + 4 * m1)), 1e-12);
-    EXPECT_NEAR(r.shear, m1 + f2 / (1 / (m2 - m1) + 6 * f1 * (k1 + 2 * m1) / (5 * m1 * (3 * k1 + 4 * m1))),
+    EXPECT_NEAR(r.shear,
+                m1 + f2 / (1 / (m2 - m1) + 6 * f1 * (k1 + 2 * m1) / (5 * m1 * (3 * k1 + 4 * m1))),
                 1e-12);
     // and lies between the Reuss and Voigt bounds
     EXPECT_LT(r.young(), f1 * 3 + f2 * 1);

@@ -95,13 +95,13 @@ TEST(PreconditionerRule, RebuildsAfterEnoughRuptures) {
 TEST(PreconditionerRule, RebuildsWhenRelaxationSolvesGrowPastTheBaseline) {
   RebuildRule rule{0, 2.5};
   PreconditionerState s;
-  EXPECT_FALSE(rule.after_solve(s, 18, true, false));   // a load step: no baseline
+  EXPECT_FALSE(rule.after_solve(s, 18, true, false));  // a load step: no baseline
   EXPECT_EQ(s.baseline_iterations, 0);
-  EXPECT_FALSE(rule.after_solve(s, 20, false, true));   // first relaxation solve: baseline
+  EXPECT_FALSE(rule.after_solve(s, 20, false, true));  // first relaxation solve: baseline
   EXPECT_EQ(s.baseline_iterations, 20);
-  EXPECT_FALSE(rule.after_solve(s, 50, false, true));   // 2.5 x 20 is not above
+  EXPECT_FALSE(rule.after_solve(s, 50, false, true));  // 2.5 x 20 is not above
   EXPECT_TRUE(rule.after_solve(s, 51, false, true));
-  EXPECT_FALSE(rule.after_solve(s, 80, true, true));    // the new build sets a new baseline
+  EXPECT_FALSE(rule.after_solve(s, 80, true, true));  // the new build sets a new baseline
   EXPECT_EQ(s.baseline_iterations, 80);
 }
 
@@ -164,7 +164,8 @@ TEST(Checkpoint, FingerprintDifferencesNameTheLinesAndAllowOtherRankCounts) {
   const std::string ours = "ranks=2\nnodes=10\nincrement=0.0003\n";
   EXPECT_EQ(compare_fingerprints(ours, ours, "checkpoint").differs, "");
   EXPECT_EQ(compare_fingerprints(ours, ours, "checkpoint").other_ranks, 0);
-  const auto one = compare_fingerprints("ranks=1\nnodes=10\nincrement=0.0003\n", ours, "checkpoint");
+  const auto one =
+      compare_fingerprints("ranks=1\nnodes=10\nincrement=0.0003\n", ours, "checkpoint");
   EXPECT_EQ(one.differs, "");
   EXPECT_EQ(one.other_ranks, 1);
   const std::string d =
@@ -178,16 +179,17 @@ TEST(Checkpoint, FingerprintDifferencesNameTheLinesAndAllowOtherRankCounts) {
 // the sums of a set-up on other ranks agree to 1e-10; solver options may
 // differ where allowed (a checkpoint) and are named apart.
 TEST(Checkpoint, FingerprintDifferencesNameAMissingOptionAndKeepSolverLinesApart) {
-  const std::string ours =
-      "nodes=10\nbond_length_mean=0.31427800000000001\n-ksp_rtol=1e-08\n"
-      "-lattice_ground_stiffness=0.001\n";
-  const std::string theirs =
-      "nodes=10\nbond_length_mean=0.31427800000000006\n-ksp_rtol=0.01\n";
+  const std::string ours = "nodes=10\nbond_length_mean=0.31427800000000001\n-ksp_rtol=1e-08\n"
+                           "-lattice_ground_stiffness=0.001\n";
+  const std::string theirs = "nodes=10\nbond_length_mean=0.31427800000000006\n-ksp_rtol=0.01\n";
   const auto d = compare_fingerprints(theirs, ours, "finished");
   EXPECT_NE(d.differs.find("finished: -lattice_ground_stiffness not set   this run: "
-                           "-lattice_ground_stiffness=0.001"), std::string::npos) << d.differs;
+                           "-lattice_ground_stiffness=0.001"),
+            std::string::npos)
+      << d.differs;
   EXPECT_NE(d.differs.find("finished: -ksp_rtol=0.01   this run: -ksp_rtol=1e-08"),
-            std::string::npos) << d.differs;
+            std::string::npos)
+      << d.differs;
   EXPECT_EQ(d.differs.find("bond_length_mean"), std::string::npos) << d.differs;
   EXPECT_EQ(d.differs.find("different option set"), std::string::npos);
   const auto c = compare_fingerprints(theirs, ours, "checkpoint", true);
@@ -196,7 +198,9 @@ TEST(Checkpoint, FingerprintDifferencesNameAMissingOptionAndKeepSolverLinesApart
   EXPECT_NE(c.differs.find("-lattice_ground_stiffness"), std::string::npos);
   // A real change of the sums is a difference.
   EXPECT_NE(compare_fingerprints("bond_length_mean=0.30968\n", "bond_length_mean=0.314278\n",
-                                 "file").differs, "");
+                                 "file")
+                .differs,
+            "");
 }
 
 TEST(Fingerprint, OptionKinds) {

@@ -221,14 +221,15 @@ namespace {
 // node joined by one bond and a separate floating pair.
 Lattice hand_made_lattice() {
   Lattice l;
-  for (int c = 0; c < 8; ++c) l.nodes.push_back({double(c & 1), double((c >> 1) & 1), double((c >> 2) & 1)});
-  l.nodes.push_back({0.5, 0.5, 0.5});   // 8: dangling, bonded to 0 only
-  l.nodes.push_back({0.3, 0.3, 0.4});   // 9, 10: floating pair
+  for (int c = 0; c < 8; ++c)
+    l.nodes.push_back({double(c & 1), double((c >> 1) & 1), double((c >> 2) & 1)});
+  l.nodes.push_back({0.5, 0.5, 0.5});  // 8: dangling, bonded to 0 only
+  l.nodes.push_back({0.3, 0.3, 0.4});  // 9, 10: floating pair
   l.nodes.push_back({0.3, 0.4, 0.4});
   // cube edges + face diagonals from node 0 and the long diagonal 0-7
-  const int pairs[][2] = {{0, 1}, {0, 2}, {0, 4}, {1, 3}, {1, 5}, {2, 3}, {2, 6}, {3, 7}, {4, 5},
-                          {4, 6}, {5, 7}, {6, 7}, {0, 3}, {0, 5}, {0, 6}, {3, 5}, {3, 6}, {5, 6},
-                          {0, 7}, {1, 7}, {2, 7}, {4, 7}, {0, 8}, {9, 10}};
+  const int pairs[][2] = {{0, 1}, {0, 2}, {0, 4}, {1, 3}, {1, 5}, {2, 3}, {2, 6}, {3, 7},
+                          {4, 5}, {4, 6}, {5, 7}, {6, 7}, {0, 3}, {0, 5}, {0, 6}, {3, 5},
+                          {3, 6}, {5, 6}, {0, 7}, {1, 7}, {2, 7}, {4, 7}, {0, 8}, {9, 10}};
   for (const auto& p : pairs) l.bonds.push_back(Bond{p[0], p[1]});
   std::sort(l.bonds.begin(), l.bonds.end());
   l.stiffness.assign(l.bonds.size(), 1.0);
@@ -240,7 +241,7 @@ TEST(TensionConstraints, PrunesZeroForceBondsAndAnchorsOnce) {
   const Lattice l = hand_made_lattice();
   const auto faces = face_flags(l);
   const TensionConstraints tc = make_tension_constraints(l, faces);
-  EXPECT_EQ(tc.pinned_nodes, 3);   // dangling node and floating pair
+  EXPECT_EQ(tc.pinned_nodes, 3);  // dangling node and floating pair
   EXPECT_EQ(tc.pruned_bonds, 2);
   EXPECT_EQ(tc.loaded_pieces, 1);
   EXPECT_EQ(tc.bottom_nodes, 4);

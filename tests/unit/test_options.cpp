@@ -239,10 +239,10 @@ TEST(Options, UnknownNamesAreReportedWithTheNearestOne) {
   {
     Given v("-ksp_type", "cgg");
     LEM_PETSC(KSPInitializePackage());
-    const std::string e =
-        error_of([] { lem::check_type_option("-ksp_type", KSPList, "KSP"); });
+    const std::string e = error_of([] { lem::check_type_option("-ksp_type", KSPList, "KSP"); });
     EXPECT_TRUE(contains(e, "-ksp_type = 'cgg' is not a KSP type known to PETSc (did you "
-                            "mean cg?)")) << e;
+                            "mean cg?)"))
+        << e;
   }
   EXPECT_EQ(error_of([] { lem::check_option_names(PETSC_COMM_WORLD); }), "");
 }

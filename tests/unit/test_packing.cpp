@@ -164,12 +164,18 @@ TEST(Packing, BadInputThrows) {
   bad([](PackingSpec& s) { s.count = 10; });
   bad([](PackingSpec& s) { s.count = 19; });
   bad([](PackingSpec& s) { s.d_max = 0.9; });
-  bad([](PackingSpec& s) { s.d_min = 0; s.d_max = 1; });
+  bad([](PackingSpec& s) {
+    s.d_min = 0;
+    s.d_max = 1;
+  });
   bad([](PackingSpec& s) { s.d_min = -1; });
   bad([](PackingSpec& s) { s.d_min = std::nan(""); });
   bad([](PackingSpec& s) { s.d_max = 10; });
   bad([](PackingSpec& s) { s.fraction_tolerance = 0; });
-  bad([](PackingSpec& s) { s.count = 20; s.d_max = 3.5; });  // box too small for d_max
+  bad([](PackingSpec& s) {
+    s.count = 20;
+    s.d_max = 3.5;
+  });  // box too small for d_max
   try {
     PackingSpec s = spec_of(5, 1);
     validate(s);

@@ -297,8 +297,7 @@ TEST_F(SampleFileTest, RepeatedBondNamesTheFirstRepeat) {
 TEST_F(SampleFileTest, NonFiniteCoordinateIsCorrupt) {
   const std::string path = written();
   const Point& p = small().sample.lattice.nodes[9];
-  set_row(path, "/nodes/coordinates", 9, std::vector<double>{p[0], p[1], NAN},
-          H5T_NATIVE_DOUBLE);
+  set_row(path, "/nodes/coordinates", 9, std::vector<double>{p[0], p[1], NAN}, H5T_NATIVE_DOUBLE);
   expect_input_error(path, "is corrupt: /nodes/coordinates row 9 = (");
   expect_input_error(path, "nan) is not finite");
 }

@@ -209,8 +209,8 @@ TEST(Voronoi, RandomLatticesPartitionTheBox) {
   for (const std::int64_t nodes : {2000, 20000}) {
     for (const std::uint64_t seed : {1u, 2u, 7u}) {
       // Unit cube, the non-cubic box, and a box away from the origin.
-      for (const Box& box : {Box{}, Box{{0, 0, 0}, {1.0, 2.0, 0.5}},
-                             Box{{10.0, -3.0, 0.25}, {11.0, -2.0, 1.25}}}) {
+      for (const Box& box :
+           {Box{}, Box{{0, 0, 0}, {1.0, 2.0, 0.5}}, Box{{10.0, -3.0, 0.25}, {11.0, -2.0, 1.25}}}) {
         RandomLatticeSpec spec;
         spec.box = box;
         spec.nodes = nodes;
@@ -243,7 +243,6 @@ TEST(Voronoi, DelaunayNeighboursGiveTheTrueVoronoiCell) {
     std::vector<Point> others;
     for (std::size_t j = 0; j < l.node_count(); ++j)
       if (j != i) others.push_back(l.nodes[j]);
-    EXPECT_NEAR(clipped_cell_volume(l.box, l.nodes[i], others), v[i], 1e-13 * v[i])
-        << "node " << i;
+    EXPECT_NEAR(clipped_cell_volume(l.box, l.nodes[i], others), v[i], 1e-13 * v[i]) << "node " << i;
   }
 }

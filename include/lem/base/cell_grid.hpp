@@ -71,7 +71,6 @@ class CellGrid {
   }
 
  private:
-
   Point lo_;
   std::array<int, 3> n_{1, 1, 1};
   std::array<double, 3> per_length_{0.0, 0.0, 0.0};

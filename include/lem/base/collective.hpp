@@ -98,8 +98,8 @@ std::vector<T> allgather(MPI_Comm comm, const std::vector<T>& mine,
   std::vector<T> all(offsets[ranks] / sizeof(T));
   if (offsets[ranks] <= gatherv_bytes) {
     const std::vector<int> n(counts.begin(), counts.end()), at(offsets.begin(), offsets.end());
-    MPI_Allgatherv(mine.data(), static_cast<int>(bytes), MPI_BYTE, all.data(), n.data(),
-                   at.data(), MPI_BYTE, comm);
+    MPI_Allgatherv(mine.data(), static_cast<int>(bytes), MPI_BYTE, all.data(), n.data(), at.data(),
+                   MPI_BYTE, comm);
     return all;
   }
   // Too large for int displacements: each rank broadcasts its part.

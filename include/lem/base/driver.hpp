@@ -22,8 +22,7 @@ enum class StopHandling { end_process, save_and_exit };
 /// handler lives from before PetscInitialize to the return, and a stop
 /// signal that no stop point saw turns a success into exit 4 too: the work
 /// was complete, so running the same command again has nothing to redo.
-int run_driver(int argc, char** argv, const char* help,
-               const std::function<void(MPI_Comm)>& body,
+int run_driver(int argc, char** argv, const char* help, const std::function<void(MPI_Comm)>& body,
                StopHandling stops = StopHandling::end_process);
 
 /// The peak resident set size of every rank of `comm` since its process

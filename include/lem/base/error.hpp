@@ -63,10 +63,10 @@ class HelpShown : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-#define LEM_PETSC(call)                                          \
-  do {                                                           \
-    PetscErrorCode lem_ierr_ = (call);                           \
-    if (lem_ierr_) throw ::lem::PetscFailure(#call, lem_ierr_);  \
+#define LEM_PETSC(call)                                         \
+  do {                                                          \
+    PetscErrorCode lem_ierr_ = (call);                          \
+    if (lem_ierr_) throw ::lem::PetscFailure(#call, lem_ierr_); \
   } while (0)
 
 /// A driver's exit status for `error`: 1 InputError, 2 NumericalError,

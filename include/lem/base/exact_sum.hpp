@@ -54,9 +54,8 @@ class ExactSum {
       lo = ~lo + 1;
       hi = ~hi + (lo == 0 ? 1 : 0);
     }
-    const double magnitude =
-        std::ldexp(static_cast<double>(hi), 64 - kFractionBits) +
-        std::ldexp(static_cast<double>(lo), -kFractionBits);
+    const double magnitude = std::ldexp(static_cast<double>(hi), 64 - kFractionBits) +
+                             std::ldexp(static_cast<double>(lo), -kFractionBits);
     return negative ? -magnitude : magnitude;
   }
 

@@ -21,8 +21,8 @@ namespace lem {
 
 /// One option as the program read it.
 struct OptionRecord {
-  std::string group;          // title of the group that read it first
-  std::string name;           // with the dash: "-lattice_nodes"
+  std::string group;  // title of the group that read it first
+  std::string name;   // with the dash: "-lattice_nodes"
   std::string help;
   std::string default_value;  // as text
   std::string value;          // as given (empty when not given)

@@ -8,11 +8,11 @@
 namespace lem {
 
 struct Provenance {
-  std::string program;      // driver name
-  std::string version;      // project version
-  std::string git_hash;     // source revision
-  std::string options;      // the whole PETSc options database, one option per line
-  std::string start_time;   // ISO 8601, UTC
+  std::string program;     // driver name
+  std::string version;     // project version
+  std::string git_hash;    // source revision
+  std::string options;     // the whole PETSc options database, one option per line
+  std::string start_time;  // ISO 8601, UTC
   int ranks = 1;
 };
 

@@ -54,8 +54,7 @@ std::vector<T> route(MPI_Comm comm, const std::vector<T>& items, const std::vect
   std::uint64_t bytes = 0;
   for (const std::uint64_t n : received) bytes += n;
   std::vector<T> out(bytes / sizeof(T));
-  move_bytes(comm, send.data(), counts, reinterpret_cast<char*>(out.data()), received,
-             round_bytes);
+  move_bytes(comm, send.data(), counts, reinterpret_cast<char*>(out.data()), received, round_bytes);
   if (from) {
     from->clear();
     for (int s = 0; s < ranks; ++s) from->insert(from->end(), received[s] / sizeof(T), s);

@@ -25,12 +25,12 @@
 namespace lem {
 
 struct BenchOptions {
-  std::int64_t bonds = 1300000;  // generated lattices: about this many bonds
-  std::int64_t repeat = 3;       // repeated assembly + PC set-up + solve
-  std::int64_t cycle_repeat = 3;  // alternating solves of each cycle precision
-  bool morton = true;            // Morton order inside each part (serial set-up)
-  std::int64_t matmults = 20;    // fine-level products timed
-  double stream_mb = 80;         // STREAM array size per rank (MB, x3 arrays)
+  std::int64_t bonds = 1300000;    // generated lattices: about this many bonds
+  std::int64_t repeat = 3;         // repeated assembly + PC set-up + solve
+  std::int64_t cycle_repeat = 3;   // alternating solves of each cycle precision
+  bool morton = true;              // Morton order inside each part (serial set-up)
+  std::int64_t matmults = 20;      // fine-level products timed
+  double stream_mb = 80;           // STREAM array size per rank (MB, x3 arrays)
   std::int64_t voronoi_nodes = 0;  // > 0: time voronoi_volumes() on this many nodes instead
 };
 

@@ -23,7 +23,6 @@ namespace lem {
 std::optional<SymTensor> write_tension_fields(const std::string& stem,
                                               const DistributedLattice& lattice,
                                               const ElasticSystem& system,
-                                              const Provenance& provenance,
-                                              const Summary& summary);
+                                              const Provenance& provenance, const Summary& summary);
 
 }  // namespace lem

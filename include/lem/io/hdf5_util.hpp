@@ -98,9 +98,8 @@ class XdmfText {
   void begin_points(const std::string& grid, std::int64_t points, const std::string& coordinates,
                     const std::string& vertices);
   /// Polylines whose ends are rows of `coordinates` (`points` rows).
-  void begin_polylines(const std::string& grid, std::int64_t lines,
-                       const std::string& connectivity, std::int64_t points,
-                       const std::string& coordinates);
+  void begin_polylines(const std::string& grid, std::int64_t lines, const std::string& connectivity,
+                       std::int64_t points, const std::string& coordinates);
   /// center: "Node" (one value per point) or "Cell" (one per polyline).
   void attribute(const XdmfArray& array, const char* center, std::int64_t rows);
   void end_grid();

@@ -7,7 +7,7 @@
 // file that looks complete.
 #pragma once
 
-#include "lem/base/files.hpp"       // write_text_file_atomically, for older includers
+#include "lem/base/files.hpp"  // write_text_file_atomically, for older includers
 #include "lem/base/provenance.hpp"
 
 #include <mpi.h>

@@ -27,9 +27,9 @@ namespace lem {
 /// of the generation grid; bonds are sorted by their ends (i < j).
 struct LatticeBlock {
   Box box;
-  std::int64_t nodes = 0, bonds = 0;            // of the whole lattice
-  std::int64_t node_begin = 0, bond_begin = 0;  // this rank's first ids
-  std::vector<Point> coords;                    // nodes node_begin, ...
+  std::int64_t nodes = 0, bonds = 0;              // of the whole lattice
+  std::int64_t node_begin = 0, bond_begin = 0;    // this rank's first ids
+  std::vector<Point> coords;                      // nodes node_begin, ...
   std::vector<std::array<std::int64_t, 2>> ends;  // bonds bond_begin, ...
   std::vector<std::array<Point, 2>> end_coords;
 };

@@ -12,7 +12,7 @@ namespace lem {
 
 struct InclusionSpec {
   double volume_fraction = 0.2;
-  double radius = 0.1;        // in units of the smallest box side
+  double radius = 0.1;  // in units of the smallest box side
   std::uint64_t seed = 7;
 };
 

@@ -26,8 +26,8 @@ struct Bond {
 struct Lattice {
   Box box;
   std::vector<Point> nodes;
-  std::vector<Bond> bonds;       // sorted, unique, i < j
-  std::vector<double> stiffness; // Hooke constant k of each bond (absolute units)
+  std::vector<Bond> bonds;        // sorted, unique, i < j
+  std::vector<double> stiffness;  // Hooke constant k of each bond (absolute units)
   /// Optional per bond (empty, or one per bond): breaking force (tension),
   /// and a tag carried along for the results (the phase of a cemented sample).
   std::vector<double> strength;
@@ -58,8 +58,8 @@ struct Lattice {
 struct LatticeStats {
   std::int64_t nodes = 0, bonds = 0;
   double mean_length = 0, min_length = 0, max_length = 0, std_length = 0;
-  double mean_coordination = 0;   // 2 * bonds / nodes
-  double mesh_density = 0;        // L_n = M^(-1/3), M = number of bonds (paper sect. 3)
+  double mean_coordination = 0;  // 2 * bonds / nodes
+  double mesh_density = 0;       // L_n = M^(-1/3), M = number of bonds (paper sect. 3)
 };
 LatticeStats lattice_stats(const Lattice& lattice);
 
@@ -111,9 +111,7 @@ Lattice make_fcc_lattice(std::array<int, 3> cells, double a, double k);
 Lattice make_fcc_block(std::array<int, 3> half_cells, double a, double k);
 
 /// Bit flags of the box faces a node lies on (within tol * shortest side).
-enum Face : std::uint8_t {
-  kXmin = 1, kXmax = 2, kYmin = 4, kYmax = 8, kZmin = 16, kZmax = 32
-};
+enum Face : std::uint8_t { kXmin = 1, kXmax = 2, kYmin = 4, kYmax = 8, kZmin = 16, kZmax = 32 };
 std::vector<std::uint8_t> face_flags(const Lattice& lattice, double tol = 1e-9);
 /// The Face bits of one point.
 std::uint8_t faces_of(const Point& p, const Box& box, double tol = 1e-9);

@@ -18,8 +18,7 @@ namespace lem {
 /// Volume of {x in box : |x - node| <= |x - q| for every q in neighbours}.
 /// Neighbours that give no face of the cell are harmless (only cost time).
 /// Throws InputError if a neighbour coincides with the node.
-double clipped_cell_volume(const Box& box, const Point& node,
-                           const std::vector<Point>& neighbours);
+double clipped_cell_volume(const Box& box, const Point& node, const std::vector<Point>& neighbours);
 
 /// clipped_cell_volume for many nodes of one box, one after the other,
 /// reusing its work space (the cells of a million nodes without a million

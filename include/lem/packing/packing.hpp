@@ -79,11 +79,11 @@ struct Sphere {
 
 struct PackingStats {
   std::int64_t particles = 0;
-  double volume_fraction = 0;     // sum of sphere volumes / box volume
+  double volume_fraction = 0;  // sum of sphere volumes / box volume
   double mean_diameter = 0;
   /// Contacts: pairs with gap < contact_gap * mean diameter (overlaps count).
   std::int64_t contacts = 0;
-  double mean_coordination = 0;   // 2 contacts / particles
+  double mean_coordination = 0;  // 2 contacts / particles
   /// Rattlers (fewer than 4 contacts, removed recursively) carry no load in a
   /// frictionless packing; the rest should be isostatic, z = 6.
   double rattler_fraction = 0;
@@ -99,16 +99,16 @@ struct PackingStats {
   /// Pressure (1/3V) sum f_ij . r_ij with the soft law of unit stiffness,
   /// in units of k / d_min (linear) — ~0 at the jamming point.
   double pressure = 0;
-  int attempts = 0;               // jamming attempts (relaxations)
-  int unsettled_attempts = 0;     // attempts stopped by max_relaxation_steps
+  int attempts = 0;            // jamming attempts (relaxations)
+  int unsettled_attempts = 0;  // attempts stopped by max_relaxation_steps
   std::int64_t relaxation_steps = 0;
   std::int64_t neighbour_builds = 0;
-  double seconds = 0;             // wall time of make_packing
+  double seconds = 0;  // wall time of make_packing
 };
 
 struct Packing {
-  double box_side = 0;            // periodic box [0, box_side)^3
-  std::vector<Sphere> spheres;    // centres wrapped into the box
+  double box_side = 0;          // periodic box [0, box_side)^3
+  std::vector<Sphere> spheres;  // centres wrapped into the box
   PackingStats stats;
 };
 
@@ -116,14 +116,14 @@ struct Packing {
 struct JammingAttempt {
   int attempt = 0;
   double volume_fraction = 0;
-  bool jammed = false;            // residual overlap after relaxation
-  double step = 0;                // current |change of volume fraction|
-  double energy_per_particle = 0; // in k d_min^2 (linear law)
-  double mean_overlap = 0;        // as in PackingStats
+  bool jammed = false;             // residual overlap after relaxation
+  double step = 0;                 // current |change of volume fraction|
+  double energy_per_particle = 0;  // in k d_min^2 (linear law)
+  double mean_overlap = 0;         // as in PackingStats
   double max_overlap = 0;
   std::int64_t relaxation_steps = 0;
-  bool settled = true;            // false: stopped by max_relaxation_steps
-  double seconds = 0;             // since the start of make_packing
+  bool settled = true;  // false: stopped by max_relaxation_steps
+  double seconds = 0;   // since the start of make_packing
 };
 using JammingProgress = std::function<void(const JammingAttempt&)>;
 
@@ -149,7 +149,7 @@ enum class CubeCut { centres_inside, reaching_in };
 /// A cubic sample [0, side]^3 cut out of a periodic packing.
 struct CubeSample {
   double side = 0;
-  Point centre_in_box{};          // where the cube's centre lies in the packing
+  Point centre_in_box{};  // where the cube's centre lies in the packing
   /// The spheres whose centres lie inside, shifted into [0, side)^3, in the
   /// packing's order; with CubeCut::reaching_in followed by the outside ones
   /// that reach in.

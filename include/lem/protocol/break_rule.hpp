@@ -22,10 +22,10 @@
 namespace lem {
 
 struct Rupture {
-  std::int64_t id;   // global bond id
-  double ratio;      // force / threshold (infinite for a zero threshold)
+  std::int64_t id;  // global bond id
+  double ratio;     // force / threshold (infinite for a zero threshold)
   double force, threshold;
-  double x, y, z;    // bond midpoint
+  double x, y, z;  // bond midpoint
   std::int32_t phase, pad;
 };
 
@@ -35,8 +35,7 @@ bool is_critical(double tension, double threshold, double force_floor);
 bool more_critical(const Rupture& a, const Rupture& b);
 /// The system is linear between ruptures: a bond with tension t at step n
 /// (t > 0) first exceeds max(f, floor) at step floor(n f / t) + 1.
-double first_breaking_step(std::int64_t step, double tension, double threshold,
-                           double force_floor);
+double first_breaking_step(std::int64_t step, double tension, double threshold, double force_floor);
 /// Lower edge of the doubt band around `level`: max(level - band, level / 2).
 /// Half the level bounds it so that a bare contact whose force is noise
 /// around zero is never in doubt.

@@ -33,7 +33,7 @@ std::string lattice_fingerprint(const DistributedLattice& lattice);
 
 /// The fingerprint of a run on `lattice` with `options`, for `scope`.
 /// Collective (the same text on every rank).
-std::string fracture_fingerprint(const DistributedLattice& lattice,
-                                 const FractureOptions& options, FingerprintScope scope);
+std::string fracture_fingerprint(const DistributedLattice& lattice, const FractureOptions& options,
+                                 FingerprintScope scope);
 
 }  // namespace lem

@@ -34,10 +34,10 @@ struct RelaxationEntry;
 
 /// The options of the local scheme (-fracture_patch_*), its own.
 struct LocalRelaxationOptions {
-  double radius = 5.0;         // patch = nodes within this many a of new ruptures
-  double margin = 0.05;        // a patch field breaks a bond only above (1 + margin) f
-  double max_fraction = 0.2;   // larger patches are solved globally
-  double rtol = 1e-6;          // patch solves to this fraction of their residual
+  double radius = 5.0;        // patch = nodes within this many a of new ruptures
+  double margin = 0.05;       // a patch field breaks a bond only above (1 + margin) f
+  double max_fraction = 0.2;  // larger patches are solved globally
+  double rtol = 1e-6;         // patch solves to this fraction of their residual
 };
 
 /// The registry entry of the scheme `local`: its factory, options and
@@ -86,10 +86,10 @@ class LocalRelaxation : public Relaxation {
                      const std::vector<double>& global_tensions) const;
 
   LocalRelaxationOptions o_;
-  double radius_ = 1;  // the patch radius, lattice units
-  CellGrid grid_;      // cells at least the patch radius wide
+  double radius_ = 1;                    // the patch radius, lattice units
+  CellGrid grid_;                        // cells at least the patch radius wide
   std::vector<std::vector<int>> cells_;  // owned nodes by cell
-  std::int64_t free_nodes_ = 0;  // global count of owned nodes with a free dof
+  std::int64_t free_nodes_ = 0;          // global count of owned nodes with a free dof
 };
 
 }  // namespace lem

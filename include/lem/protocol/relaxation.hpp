@@ -26,9 +26,9 @@
 namespace lem {
 
 struct RelaxationOutcome {
-  int cycles = 0;              // solves after ruptures
-  std::int64_t broken = 0;     // bonds broken at this load
-  bool disconnected = false;   // no piece joins the bottom to the top face any more
+  int cycles = 0;             // solves after ruptures
+  std::int64_t broken = 0;    // bonds broken at this load
+  bool disconnected = false;  // no piece joins the bottom to the top face any more
 };
 
 /// The parts of the protocol a relaxation works with.
@@ -85,8 +85,7 @@ class Relaxation {
   /// Break `batch` as one numbered batch (generation `cycle` of this load
   /// step), pin the pieces it cut loose.  Returns whether some piece still
   /// joins the faces.  Collective.
-  bool break_batch(const std::vector<Rupture>& batch, std::int64_t step, int cycle,
-                   double strain);
+  bool break_batch(const std::vector<Rupture>& batch, std::int64_t step, int cycle, double strain);
   /// Count a broken batch in `out` (one more cycle) and report progress.
   void note_batch(std::int64_t step, const std::vector<Rupture>& batch, RelaxationOutcome& out);
   /// A relaxation solve after a batch; with options.decision_safety > 0 it

@@ -13,23 +13,23 @@ namespace lem {
 
 /// Counts and extremes of a run, in raw (lattice or E^phase) units.
 struct FractureTally {
-  double young_modulus = 0;        // E_eff: sigma/eps of the first equilibrium
-  double peak_stress = 0;          // sigma_eff
+  double young_modulus = 0;  // E_eff: sigma/eps of the first equilibrium
+  double peak_stress = 0;    // sigma_eff
   double strain_at_peak = 0;
   std::int64_t steps = 0;          // last load step reached
   std::int64_t visited_steps = 0;  // steps at which the state was evaluated
   std::int64_t solves = 0, iterations = 0, preconditioner_builds = 0;
   std::int64_t fallback_solves = 0;  // multigrid failed, Jacobi-CG solved (ElasticSystem)
-  std::int64_t rupture_steps = 0;  // steps with at least one rupture
+  std::int64_t rupture_steps = 0;    // steps with at least one rupture
   std::int64_t relaxation_cycles = 0;
   std::int64_t early_stops = 0;    // relaxation solves ended once the batch was decided
   std::int64_t decided_steps = 0;  // load steps that ended on a decided field (no equilibrium)
   std::int64_t tie_solves = 0;     // re-solves to -fracture_tie_rtol for bonds in doubt
   std::array<std::int64_t, kPhaseCount> broken{};  // per phase
   std::int64_t detached_bonds = 0, pinned_nodes = 0;
-  std::int64_t pieces = 1;         // connected pieces of unpinned nodes
-  double work = 0;                 // external work, trapezoidal rule over the curve
-  double released_energy = 0;      // energy lost in relaxations (bonds and ground springs)
+  std::int64_t pieces = 1;     // connected pieces of unpinned nodes
+  double work = 0;             // external work, trapezoidal rule over the curve
+  double released_energy = 0;  // energy lost in relaxations (bonds and ground springs)
   std::int64_t broken_total() const;
   double particle_damage() const;  // n_b: broken p bonds / broken bonds
 };
@@ -51,10 +51,10 @@ struct FractureState {
   FractureTally tally;
   PreconditionerState preconditioner;
   ResultFileMarks files;
-  std::int64_t batches = 0;               // numbered batches of matrix changes so far
+  std::int64_t batches = 0;  // numbered batches of matrix changes so far
   std::int64_t next_checkpoint_step = 0;
-  double reaction = 0;                    // top reaction at the current equilibrium
-  double seconds_before = 0;              // wall time of earlier sessions
+  double reaction = 0;        // top reaction at the current equilibrium
+  double seconds_before = 0;  // wall time of earlier sessions
 };
 static_assert(std::is_trivially_copyable_v<FractureState>);
 

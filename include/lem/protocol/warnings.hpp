@@ -16,7 +16,7 @@ namespace lem {
 
 /// One kind of degradation and how often it was seen.
 struct RunWarning {
-  std::string code;       // short: energy_balance, fallback_solver, coarse_increment
+  std::string code;  // short: energy_balance, fallback_solver, coarse_increment
   std::int64_t count = 0;
 };
 

@@ -21,7 +21,7 @@
 namespace lem {
 
 struct Calibration {
-  double sigma_hom = 0, e_hom = 0;  // in E^phase units
+  double sigma_hom = 0, e_hom = 0;    // in E^phase units
   std::vector<std::string> warnings;  // of the calibration run, "code:count"
 };
 

@@ -11,8 +11,7 @@ namespace lem {
 
 /// Sample facts, solver figures and moduli; E in units of k/a (k of the
 /// lattice option -lattice_k, a the mean bond length).
-Summary tension_summary(const SetupReport& setup, const DistributedLattice& lattice,
-                        double bond_k, const TensionResponse& response,
-                        const SolveReport& solve);
+Summary tension_summary(const SetupReport& setup, const DistributedLattice& lattice, double bond_k,
+                        const TensionResponse& response, const SolveReport& solve);
 
 }  // namespace lem

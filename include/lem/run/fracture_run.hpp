@@ -22,13 +22,13 @@ namespace lem {
 /// How a fracture run is normalised and where it writes ("Fracture run and
 /// output"; the protocol's own options are FractureOptions).
 struct FractureRunOptions {
-  double break_strain = 1e-3;     // generated lattices: f = k a eps_b
-  bool calibrate = true;          // sample files: sigma^[p], E^[p] first
-  std::string calibration_file;   // "": beside the sample, named by a hash
+  double break_strain = 1e-3;               // generated lattices: f = k a eps_b
+  bool calibrate = true;                    // sample files: sigma^[p], E^[p] first
+  std::string calibration_file;             // "": beside the sample, named by a hash
   double sigma_unit = 0, modulus_unit = 0;  // given units (0: calibrate)
   std::string output_dir = "results/fracture";
   bool overwrite = false;
-  bool fields = true;              // fields.h5 and elastic.h5
+  bool fields = true;               // fields.h5 and elastic.h5
   std::int64_t snapshot_steps = 0;  // fields every this many load steps
 };
 
@@ -39,9 +39,9 @@ FractureRunOptions read_fracture_run_options(MPI_Comm comm);
 /// Collective.  Throws InputError for bad input (before the folder is
 /// touched), NumericalError, Interrupted after a stop request (the same
 /// call resumes).
-void run_fracture_job(MPI_Comm comm, const SampleOptions& sample,
-                      const FractureOptions& protocol, const FractureRunOptions& run,
-                      const SolverOptions& solver, const Provenance& provenance);
+void run_fracture_job(MPI_Comm comm, const SampleOptions& sample, const FractureOptions& protocol,
+                      const FractureRunOptions& run, const SolverOptions& solver,
+                      const Provenance& provenance);
 
 /// A file that a program adds to each of its lem_fracture results
 /// (docs/developer/extending.md, "An output").

@@ -50,7 +50,7 @@ struct BridgeSpec {
   /// eligible; its ~9 matrix bridges per particle match a gap of 0.15 d_min
   /// (docs/model/cemented-samples.md), the default.
   double max_gap = 0.15;
-  double max_lambda = 3.0;        // widest bridge allowed (pore-space limit)
+  double max_lambda = 3.0;  // widest bridge allowed (pore-space limit)
   /// Not a property of the bridges but of the phases the matrix stage
   /// assigns: the bonds made void by the pores.
   VoidRule void_bonds = VoidRule::any_end;
@@ -73,8 +73,8 @@ struct NodePhases {
 class AggregateGeometry {
  public:
   AggregateGeometry(const Box& box, std::vector<Sphere> particles, std::vector<Bridge> bridges);
-  std::int32_t particle_at(const Point& x) const;  // -1 if none
-  bool matrix_at(const Point& x) const;            // inside some bridge
+  std::int32_t particle_at(const Point& x) const;              // -1 if none
+  bool matrix_at(const Point& x) const;                        // inside some bridge
   std::vector<std::int32_t> bridges_at(const Point& x) const;  // every bridge containing x
   NodePhases classify(const std::vector<Point>& nodes) const;
   const std::vector<Sphere>& particles() const { return particles_; }
@@ -100,9 +100,9 @@ Phase bond_phase(std::int32_t particle_a, bool matrix_a, std::int32_t particle_b
 
 /// Result of sizing the bridges for a requested matrix fraction.
 struct MatrixCalibration {
-  std::vector<Bridge> bridges;   // with their lambda
-  double share_factor = 1;       // shares actually given / requested total
-  double matrix_fraction = 0;    // measured (weighted nodes)
+  std::vector<Bridge> bridges;  // with their lambda
+  double share_factor = 1;      // shares actually given / requested total
+  double matrix_fraction = 0;   // measured (weighted nodes)
   int iterations = 0;
 };
 

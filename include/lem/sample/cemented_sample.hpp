@@ -27,9 +27,9 @@ struct PhaseTable {
 };
 
 struct CementedSampleSpec {
-  PackingSpec packing;               // the periodic packing to cut from
+  PackingSpec packing;                  // the periodic packing to cut from
   std::int64_t sample_particles = 516;  // sphere centres in the cube (>= 8)
-  RandomLatticeSpec lattice;         // box is set to the cube; size by bonds, nodes or L_n
+  RandomLatticeSpec lattice;            // box is set to the cube; size by bonds, nodes or L_n
   /// serial: built on one rank (build_cemented_sample); cells: by every rank
   /// for its block (build_cemented_sample_block, lem/sample/parallel_sample.hpp).
   LatticeGenerator generator = LatticeGenerator::serial;
@@ -42,35 +42,35 @@ inline constexpr std::int64_t kMinSampleParticles = 8;
 inline constexpr double kMinNodesPerParticle = 50;
 
 struct CementedSampleStats {
-  std::int64_t particles = 0;        // spheres kept: centres inside + reaching in
-  std::int64_t sample_particles = 0; // centres inside the cube ("per particle" counts)
+  std::int64_t particles = 0;         // spheres kept: centres inside + reaching in
+  std::int64_t sample_particles = 0;  // centres inside the cube ("per particle" counts)
   std::int64_t nodes = 0, bonds = 0;
   double side = 0;
-  double nodes_per_particle = 0;     // lattice nodes inside particles / sample particles
-  double rho_p_geometric = 0;        // clipped sphere volume / cube volume
+  double nodes_per_particle = 0;  // lattice nodes inside particles / sample particles
+  double rho_p_geometric = 0;     // clipped sphere volume / cube volume
   double rho_m_requested = 0;
   double rho_p = 0, rho_m = 0, rho_v = 0;  // Voronoi-weighted nodes
   std::array<std::int64_t, kPhaseCount> bonds_per_phase{};
   /// Volume share of each bond phase: every node spreads its Voronoi volume
   /// evenly over its bonds (sums to 1; used for the appendix-D estimates).
   std::array<double, kPhaseCount> bond_volume_fraction{};
-  double bonds_per_particle = 0;     // p bonds / sample particles (paper: ~1550)
-  std::int64_t eligible_pairs = 0;   // pairs given a share of the matrix
-  std::int64_t bridges = 0;          // bridges holding at least one matrix node
+  double bonds_per_particle = 0;    // p bonds / sample particles (paper: ~1550)
+  std::int64_t eligible_pairs = 0;  // pairs given a share of the matrix
+  std::int64_t bridges = 0;         // bridges holding at least one matrix node
   /// Per particle with its centre in the cube: eligible pairs, and bridges
   /// holding matrix nodes (paper: ~9, ~6 at rho^m = 0.06).
   double eligible_per_particle = 0, bridges_per_particle = 0;
-  double interface_ratio = 0;        // S^pm / S^p: pm bonds / bonds leaving a particle
+  double interface_ratio = 0;  // S^pm / S^p: pm bonds / bonds leaving a particle
   double packing_seconds = 0, lattice_seconds = 0, voronoi_seconds = 0, phases_seconds = 0;
 };
 
 struct CementedSample {
-  Lattice lattice;                   // every Delaunay bond; stiffness set by mechanical_lattice
+  Lattice lattice;  // every Delaunay bond; stiffness set by mechanical_lattice
   std::vector<Sphere> particles;
   std::vector<Bridge> bridges;
   NodePhases node_phases;
   std::vector<Phase> bond_phase;
-  std::vector<double> node_volume;   // clipped Voronoi volumes (sum = cube volume)
+  std::vector<double> node_volume;  // clipped Voronoi volumes (sum = cube volume)
   CementedSampleStats stats;
 };
 

@@ -41,7 +41,7 @@ struct CompositeFractions {
 struct CompositeEstimate {
   double bare = 0, adhesive = 0;
 };
-CompositeEstimate appendix_d_estimates(const CompositeFractions& f, double young_p,
-                                       double young_m, double young_pm, double poisson);
+CompositeEstimate appendix_d_estimates(const CompositeFractions& f, double young_p, double young_m,
+                                       double young_pm, double poisson);
 
 }  // namespace lem

@@ -62,14 +62,14 @@ struct SampleBlock {
   /// The attributes, particles, bridges and provenance; its lattice holds
   /// only the box (no nodes, no bonds).
   SampleFile description;
-  std::int64_t nodes = 0, bonds = 0;           // rows in the file
+  std::int64_t nodes = 0, bonds = 0;            // rows in the file
   std::int64_t node_begin = 0, bond_begin = 0;  // file rows of this rank's first entries
   std::vector<Point> coords;                    // per node row of the block
   std::vector<double> volume;
   std::vector<std::int32_t> particle;
   std::vector<char> matrix;
   std::vector<std::array<std::int64_t, 2>> ends;  // per bond row of the block
-  std::vector<std::array<Point, 2>> end_coords;     // the positions of those ends
+  std::vector<std::array<Point, 2>> end_coords;   // the positions of those ends
   std::vector<Phase> bond_phase;
 };
 

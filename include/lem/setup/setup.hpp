@@ -22,8 +22,8 @@ enum class InclusionType { none, stiff, pore };
 
 struct SampleOptions {
   LatticeType lattice_type = LatticeType::random;
-  std::string sample_file;              // lem_sample's HDF5 file
-  PhaseTable phases;                    // bond moduli of a sample file's phases
+  std::string sample_file;  // lem_sample's HDF5 file
+  PhaseTable phases;        // bond moduli of a sample file's phases
   RandomLatticeSpec random;
   /// Random lattices: made on rank 0, or by every rank (lem/lattice/cell_lattice.hpp).
   LatticeGenerator generator = LatticeGenerator::serial;
@@ -44,12 +44,12 @@ SampleOptions read_sample_options(MPI_Comm comm);
 
 /// Facts about the built sample, known on every rank after setup.
 struct SampleInfo {
-  LatticeStats stats;          // of the lattice before inclusions
-  AffineModuli affine;         // of the sample as built (with inclusions)
+  LatticeStats stats;                  // of the lattice before inclusions
+  AffineModuli affine;                 // of the sample as built (with inclusions)
   double inclusion_fraction = 0;       // geometric, exact
   double inclusion_node_fraction = 0;  // share of nodes inside inclusions
   std::int64_t inclusion_count = 0;
-  CementedSampleStats cemented{};      // of a sample file (zero otherwise)
+  CementedSampleStats cemented{};  // of a sample file (zero otherwise)
 };
 
 /// Build (or read) the sample on the calling rank (normally rank 0).  A
@@ -62,8 +62,7 @@ struct SetupReport {
   SampleInfo sample;
   std::int64_t active_bonds = 0, pruned_bonds = 0, pinned_nodes = 0;
   std::int64_t bottom_nodes = 0, top_nodes = 0, edge_cut = 0;
-  double seconds_build = 0, seconds_constraints = 0, seconds_partition = 0,
-         seconds_distribute = 0;
+  double seconds_build = 0, seconds_constraints = 0, seconds_partition = 0, seconds_distribute = 0;
 };
 
 /// Named errors before any work for a lattice that cannot run here: more

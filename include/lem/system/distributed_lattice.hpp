@@ -20,8 +20,8 @@ namespace lem {
 struct DistributedLattice {
   MPI_Comm comm = MPI_COMM_NULL;
   Box box;
-  double mean_bond_length = 0;    // a: the mean length of the lattice's elements
-                                  // (a sample file's: every row of /bonds, voids too)
+  double mean_bond_length = 0;  // a: the mean length of the lattice's elements
+                                // (a sample file's: every row of /bonds, voids too)
   std::int64_t global_nodes = 0;
   std::int64_t global_bonds = 0;  // active bonds in the system
   std::int64_t node_begin = 0;    // owned block [node_begin, node_begin + owned)
@@ -31,10 +31,10 @@ struct DistributedLattice {
   std::vector<std::int64_t> global_index;  // distributed numbering
   std::vector<std::int64_t> node_id;       // lattice numbering (partition-independent)
   std::vector<Point> coords;
-  std::vector<std::uint8_t> dof_flags;     // DofFlag bits
-  std::vector<std::uint8_t> faces;         // Face bits
-  std::vector<double> node_volume;         // Voronoi volume (empty: lattice had none)
-  std::vector<std::int32_t> node_particle; // particle, -1 none (empty: lattice had none)
+  std::vector<std::uint8_t> dof_flags;      // DofFlag bits
+  std::vector<std::uint8_t> faces;          // Face bits
+  std::vector<double> node_volume;          // Voronoi volume (empty: lattice had none)
+  std::vector<std::int32_t> node_particle;  // particle, -1 none (empty: lattice had none)
 
   // Per local bond.
   std::vector<std::array<int, 2>> bond_ends;  // local node indices

@@ -36,11 +36,11 @@ struct SolveReport {
   int iterations = 0;
   double residual_norm = 0;
   KSPConvergedReason reason = KSP_CONVERGED_ITERATING;
-  double setup_seconds = 0;  // KSPSetUp: preconditioner build (0 when reused)
-  double solve_seconds = 0;  // KSPSolve
+  double setup_seconds = 0;           // KSPSetUp: preconditioner build (0 when reused)
+  double solve_seconds = 0;           // KSPSolve
   bool preconditioner_built = false;  // this solve (re)built the preconditioner
-  bool used_fallback = false;  // multigrid failed twice; CG + Jacobi (-fallback_*) solved
-  bool stopped_early = false;  // an EarlyStop test ended the solve before -ksp_rtol
+  bool used_fallback = false;         // multigrid failed twice; CG + Jacobi (-fallback_*) solved
+  bool stopped_early = false;         // an EarlyStop test ended the solve before -ksp_rtol
 };
 
 /// A test that may end a CG solve before -ksp_rtol: every `interval`
@@ -61,12 +61,13 @@ struct TensionResponse {
   double reaction = 0;          // total z force applied on the top nodes
   double stress_zz = 0;         // reaction / cross-section
   double strain_zz = 0;         // Delta / height
-  double strain_xx = 0, strain_yy = 0;  // lateral_strains(): face displacements, rotation about z removed
-  double young_modulus = 0;     // stress_zz / strain_zz
-  double poisson_ratio = 0;     // -(strain_xx + strain_yy) / (2 strain_zz)
-  double stored_energy = 0;     // 1/2 sum_bonds k (stretch)^2
-  double ground_energy = 0;     // 1/2 sum_free dofs g u^2: the ground springs (g = ground_)
-  double external_work = 0;     // 1/2 reaction * Delta
+  double strain_xx = 0,
+         strain_yy = 0;      // lateral_strains(): face displacements, rotation about z removed
+  double young_modulus = 0;  // stress_zz / strain_zz
+  double poisson_ratio = 0;  // -(strain_xx + strain_yy) / (2 strain_zz)
+  double stored_energy = 0;  // 1/2 sum_bonds k (stretch)^2
+  double ground_energy = 0;  // 1/2 sum_free dofs g u^2: the ground springs (g = ground_)
+  double external_work = 0;  // 1/2 reaction * Delta
 };
 
 /// The KSP of patch solves (relax_patch): CG + Jacobi by default, to `rtol`,
@@ -219,22 +220,22 @@ class ElasticSystem {
   VecHandle u_start_;  // initial guess kept for a retry
   VecHandle u_check_;  // ghosted: the check field of a decided solve (mark_check)
   KspHandle ksp_;
-  ConvergenceTest* convergence_ = nullptr;  // owned by ksp_ (destroyed with it)
-  KspHandle fallback_ksp_;  // CG + Jacobi, for solves the multigrid fails
+  ConvergenceTest* convergence_ = nullptr;        // owned by ksp_ (destroyed with it)
+  KspHandle fallback_ksp_;                        // CG + Jacobi, for solves the multigrid fails
   std::unique_ptr<ParticleDeflation> deflation_;  // -solver_particle_deflation
-  std::unique_ptr<RitzDeflation> ritz_;  // -solver_ritz_deflation
-  std::unique_ptr<BondOperator> bonds_;  // -solver_operator bonds
-  std::unique_ptr<SingleCycle> single_cycle_;  // -solver_cycle_precision single
+  std::unique_ptr<RitzDeflation> ritz_;           // -solver_ritz_deflation
+  std::unique_ptr<BondOperator> bonds_;           // -solver_operator bonds
+  std::unique_ptr<SingleCycle> single_cycle_;     // -solver_cycle_precision single
   double diagonal_scale_ = 1.0;
   double ground_ = 0.0;  // diagonal added on free dofs (-lattice_ground_stiffness)
   double current_displacement_ = 0.0;
   bool operator_changed_ = true;
-  bool equilibrium_ = false;  // u_ solves K u = b to -ksp_rtol (not stopped early)
-  bool reuse_pc_ = false;  // keep the preconditioner when K changes
-  bool pc_stale_ = false;  // the next solve must build a fresh preconditioner
-  bool pc_ready_ = false;  // a preconditioner has been built
-  bool tighter_solve_ = false;  // in solve_to: -log_view stage "Solve, tighter rtol"
-  std::int64_t solves_ = 0;  // by this process (test hook LEM_FAULT_SOLVE_FAIL)
+  bool equilibrium_ = false;                   // u_ solves K u = b to -ksp_rtol (not stopped early)
+  bool reuse_pc_ = false;                      // keep the preconditioner when K changes
+  bool pc_stale_ = false;                      // the next solve must build a fresh preconditioner
+  bool pc_ready_ = false;                      // a preconditioner has been built
+  bool tighter_solve_ = false;                 // in solve_to: -log_view stage "Solve, tighter rtol"
+  std::int64_t solves_ = 0;                    // by this process (test hook LEM_FAULT_SOLVE_FAIL)
   std::vector<std::int64_t> spectrum_solves_;  // -solver_spectrum_solves
   std::string spectrum_prefix_;
 };

@@ -29,7 +29,6 @@ std::vector<SymTensor> node_stresses(const DistributedLattice& lattice,
                                      const std::vector<double>& bond_tension);
 
 /// Volume average sum_i |V^i| sigma^i / |box| over all ranks (collective).
-SymTensor volume_average(const DistributedLattice& lattice,
-                         const std::vector<SymTensor>& stresses);
+SymTensor volume_average(const DistributedLattice& lattice, const std::vector<SymTensor>& stresses);
 
 }  // namespace lem

@@ -12,16 +12,16 @@ namespace lem {
 
 struct Partition {
   int parts = 1;
-  std::vector<int> owner;                 // rank owning each node (lattice numbering)
-  std::vector<std::int64_t> new_index;    // lattice numbering -> distributed numbering
-  std::vector<std::int64_t> offsets;      // block of rank r: [offsets[r], offsets[r+1])
-  std::int64_t edge_cut = 0;              // bonds joining two ranks
+  std::vector<int> owner;               // rank owning each node (lattice numbering)
+  std::vector<std::int64_t> new_index;  // lattice numbering -> distributed numbering
+  std::vector<std::int64_t> offsets;    // block of rank r: [offsets[r], offsets[r+1])
+  std::int64_t edge_cut = 0;            // bonds joining two ranks
 };
 
 /// `bond_active` selects the bonds of the graph (empty = all).
 /// `morton` = false keeps the METIS order inside a block (for benchmarks).
-Partition partition_lattice(const Lattice& lattice, const std::vector<char>& bond_active,
-                            int parts, bool morton = true);
+Partition partition_lattice(const Lattice& lattice, const std::vector<char>& bond_active, int parts,
+                            bool morton = true);
 
 /// Parts of a graph of spatial cells (vertex weights; CSR adjacency with
 /// edge weights, symmetric): METIS k-way with a fixed seed, so that every

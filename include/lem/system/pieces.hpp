@@ -17,11 +17,11 @@
 namespace lem {
 
 struct PieceReport {
-  std::vector<int> loose_nodes;     // local nodes (owned and ghost) of pieces to pin
-  std::int64_t pieces = 0;          // pieces of unpinned nodes, global
-  std::int64_t loose_pieces = 0;    // of which carry no load
+  std::vector<int> loose_nodes;       // local nodes (owned and ghost) of pieces to pin
+  std::int64_t pieces = 0;            // pieces of unpinned nodes, global
+  std::int64_t loose_pieces = 0;      // of which carry no load
   std::int64_t loose_node_count = 0;  // owned nodes in them, global
-  bool faces_joined = false;        // some piece joins the bottom to the top face
+  bool faces_joined = false;          // some piece joins the bottom to the top face
 };
 
 /// Labels the pieces of the graph of bonds with k > 0 over the unpinned

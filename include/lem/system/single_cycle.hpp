@@ -89,7 +89,7 @@ class SingleCycle {
   double ground_, scale_;
   PC inner_ = nullptr;  // a reference of our own
   bool single_ = true;
-  int cycles_ = 2;      // 1 V, 2 W
+  int cycles_ = 2;                              // 1 V, 2 W
   std::vector<std::unique_ptr<Level>> levels_;  // coarsest first, as PCMG numbers them
   std::unique_ptr<FloatBonds> fine_;
   double applications_ = 0, apply_seconds_ = 0;

@@ -19,21 +19,23 @@ namespace lem {
 
 /// Per-node degree-of-freedom flags.
 enum DofFlag : std::uint8_t {
-  kFixX = 1, kFixY = 2, kFixZ = 4,
-  kLoadedTop = 8,   // u_z prescribed to the top displacement (else fixed values are 0)
-  kPinned = 16      // carries no bond: all three displacements fixed at 0
+  kFixX = 1,
+  kFixY = 2,
+  kFixZ = 4,
+  kLoadedTop = 8,  // u_z prescribed to the top displacement (else fixed values are 0)
+  kPinned = 16     // carries no bond: all three displacements fixed at 0
 };
 
 /// Displacement component a (0, 1, 2) of a node with these flags is prescribed.
 inline bool is_fixed(std::uint8_t flags, int component) { return flags & (1u << component); }
 
 struct TensionConstraints {
-  std::vector<std::uint8_t> dof_flags;   // per node
-  std::vector<char> bond_active;         // bonds kept in the system
+  std::vector<std::uint8_t> dof_flags;  // per node
+  std::vector<char> bond_active;        // bonds kept in the system
   std::int64_t bottom_nodes = 0, top_nodes = 0;
-  std::int64_t pruned_bonds = 0;         // zero-force bonds dropped
+  std::int64_t pruned_bonds = 0;  // zero-force bonds dropped
   std::int64_t pinned_nodes = 0;
-  std::int64_t loaded_pieces = 0;        // connected pieces anchored on a face
+  std::int64_t loaded_pieces = 0;  // connected pieces anchored on a face
 };
 
 /// Build the constraints from the face flags; throws InputError when no piece
