@@ -55,7 +55,7 @@ struct Solved {
 };
 
 Solved solve_exact(Problem& p, double top_displacement) {
-  ElasticSystem system(p.lattice, SolverOptions{0.0});
+  ElasticSystem system(p.lattice, exact_solver_options());
   system.assemble();
   system.solve(top_displacement);
   return {system.response(), system.owned_displacements()};
@@ -344,7 +344,7 @@ struct StressedLattice {
 StressedLattice stressed(const Lattice& lattice, double displacement) {
   StressedLattice s;
   s.problem = make_problem(PETSC_COMM_WORLD, [&] { return lattice; });
-  ElasticSystem system(s.problem.lattice, SolverOptions{0.0});  // the exact lattice
+  ElasticSystem system(s.problem.lattice, exact_solver_options());  // the exact lattice
   system.assemble();
   system.solve(displacement);
   s.response = system.response();
