@@ -1,6 +1,7 @@
 #include "lem/bench/benchmark.hpp"
 
 #include "level_accounting.hpp"
+#include "rank_max.hpp"
 
 #include "lem/base/driver.hpp"
 #include "lem/base/error.hpp"
@@ -24,11 +25,6 @@ namespace lem {
 
 namespace {
 
-double max_over(MPI_Comm comm, double v) {
-  double m = 0;
-  MPI_Allreduce(&v, &m, 1, MPI_DOUBLE, MPI_MAX, comm);
-  return m;
-}
 
 // Wall time of f() on the slowest rank, all ranks starting together.
 template <class F>

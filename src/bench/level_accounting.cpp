@@ -1,6 +1,7 @@
 // Per-level accounting of the multigrid cycle and the two cycle precisions
 // side by side (lem_bench; lem/bench/benchmark.hpp).
 #include "level_accounting.hpp"
+#include "rank_max.hpp"
 
 #include "lem/base/error.hpp"
 #include "lem/base/log.hpp"
@@ -16,11 +17,6 @@
 namespace lem {
 namespace {
 
-double max_over(MPI_Comm comm, double v) {
-  double m = 0;
-  MPI_Allreduce(&v, &m, 1, MPI_DOUBLE, MPI_MAX, comm);
-  return m;
-}
 
 double median_of(std::vector<double> v) {
   std::sort(v.begin(), v.end());
