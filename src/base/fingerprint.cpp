@@ -40,7 +40,9 @@ const char* const kOutsideNames[] = {"-output_dir",
                                      "-options_file",
                                      "-options_file_yaml",
                                      "-no_signal_handler"};
+// (-solver_spectrum_*: the probe's extra solves leave the run as it is.)
 const char* const kOutsidePrefixes[] = {"-checkpoint_",
+                                        "-solver_spectrum_",
                                         "-fracture_warn_",
                                         "-log",
                                         "-info",

@@ -214,6 +214,10 @@ TEST(Fingerprint, OptionKinds) {
   EXPECT_EQ(option_kind("-checkpoint_steps"), OptionKind::outside);
   EXPECT_EQ(option_kind("-sample_parallel"), OptionKind::outside);
   EXPECT_EQ(option_kind("-fracture_warn_energy"), OptionKind::outside);
+  // A diagnostic that does not change the run does not identify it.
+  EXPECT_EQ(option_kind("-solver_spectrum_solves"), OptionKind::outside);
+  EXPECT_EQ(option_kind("-solver_spectrum_prefix"), OptionKind::outside);
+  EXPECT_EQ(option_kind("-solver_cycle_precision"), OptionKind::solver);
 }
 
 namespace {
