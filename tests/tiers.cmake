@@ -81,7 +81,7 @@ set(LEM_TEST_GROUPS
   "^fracture_warnings_:warnings"
   "^fracture_:fracture"
   "^(tension_|sample_driver$|sample_driver_cells$|stiffness_driver|results_readers$|study_|checker_):drivers"
-  "^(layering|phase_names|options_reference|extension_):layout")
+  "^(layering|phase_names|options_reference|extension_|function_length):layout")
 
 function(lem_label_tests)
   get_property(tests DIRECTORY PROPERTY TESTS)

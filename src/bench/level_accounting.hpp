@@ -8,6 +8,16 @@
 
 namespace lem {
 
+/// The operator of a multigrid level (`level` counted from the coarsest,
+/// as PCMG does) as its smoother has it (assembled even with -pc_use_amat),
+/// its global rows and its nonzeros.  Collective.
+struct LevelOperator {
+  Mat A = nullptr;
+  PetscInt rows = 0;
+  double nonzeros = 0;
+};
+LevelOperator level_operator(PC mg, PetscInt level);
+
 /// With `b` the right-hand side of the benchmark: one logged CG solve per
 /// cycle precision, printed as a table per level (rows, nonzeros, visits,
 /// products and transfers, bytes by the model, ms measured, per CG

@@ -245,18 +245,11 @@ std::string probe_writable(const std::string& path) {
   return {};
 }
 
-}  // namespace
+// The steps of write_lattice_fields, each agreed on by all ranks.
 
-// ---------------------------------------------------------------------------
-// Public interface
-// ---------------------------------------------------------------------------
-
-void write_lattice_fields(MPI_Comm comm, const std::string& stem, const NodeSlice& nodes,
-                          const BondSlice& bonds, const Provenance& provenance,
-                          const std::vector<std::pair<std::string, double>>& scalars) {
+/// 1. Local consistency of the slices.
+void check_slices(MPI_Comm comm, const NodeSlice& nodes, const BondSlice& bonds) {
   const int rank = comm_rank(comm);
-
-  // 1. Local consistency of the slices, agreed on by all ranks.
   LocalError error;
   const std::size_t local_nodes = nodes.coords.size();
   const std::size_t local_bonds = bonds.ends.size();
@@ -271,21 +264,23 @@ void write_lattice_fields(MPI_Comm comm, const std::string& stem, const NodeSlic
   check_fields(nodes.fields, local_nodes, "nodes", {"coordinates", "id", "vertices"}, rank, error);
   check_fields(bonds.fields, local_bonds, "bonds", {"connectivity", "id"}, rank, error);
   raise_collectively(comm, error);
+}
 
-  // 2. Every rank must write the same set of datasets.
-  const std::vector<FieldInfo> node_fields = field_infos(nodes.fields);
-  const std::vector<FieldInfo> bond_fields = field_infos(bonds.fields);
-  {
-    const std::string mine = schema_text(node_fields, bond_fields);
-    const std::string root = broadcast_string(comm, mine, 0);
-    if (mine != root)
-      error.set(
-          std::invalid_argument("write_lattice_fields: rank " + std::to_string(rank) +
-                                " passes different fields (names/components/order) than rank 0"));
-    raise_collectively(comm, error);
-  }
+/// 2. Every rank must write the same set of datasets.
+void check_same_fields(MPI_Comm comm, const std::vector<FieldInfo>& node_fields,
+                       const std::vector<FieldInfo>& bond_fields) {
+  LocalError error;
+  const std::string mine = schema_text(node_fields, bond_fields);
+  const std::string root = broadcast_string(comm, mine, 0);
+  if (mine != root)
+    error.set(
+        std::invalid_argument("write_lattice_fields: rank " + std::to_string(comm_rank(comm)) +
+                              " passes different fields (names/components/order) than rank 0"));
+  raise_collectively(comm, error);
+}
 
-  // 3. Attributes: rank 0's provenance and scalars are written by everyone.
+/// 3a. Rank 0's provenance, on every rank.
+Provenance root_provenance(MPI_Comm comm, const Provenance& provenance) {
   Provenance prov;
   prov.program = broadcast_string(comm, provenance.program, 0);
   prov.version = broadcast_string(comm, provenance.version, 0);
@@ -294,46 +289,59 @@ void write_lattice_fields(MPI_Comm comm, const std::string& stem, const NodeSlic
   prov.start_time = broadcast_string(comm, provenance.start_time, 0);
   prov.ranks = provenance.ranks;
   MPI_Bcast(&prov.ranks, 1, MPI_INT, 0, comm);
-  std::vector<std::pair<std::string, double>> root_scalars;
-  {
-    std::int64_t count = static_cast<std::int64_t>(scalars.size());
-    MPI_Bcast(&count, 1, MPI_INT64_T, 0, comm);
-    std::vector<double> values(static_cast<std::size_t>(count));
-    if (rank == 0)
-      for (std::size_t i = 0; i < scalars.size(); ++i) values[i] = scalars[i].second;
-    broadcast_bytes(comm, values.data(), values.size() * sizeof(double), 0);
-    std::set<std::string> names(std::begin(h5::kProvenanceNames), std::end(h5::kProvenanceNames));
-    for (std::size_t i = 0; i < values.size(); ++i) {
-      std::string name = broadcast_string(comm, rank == 0 ? scalars[i].first : std::string(), 0);
-      if (name.empty() || !names.insert(name).second)
-        error.set(std::invalid_argument("write_lattice_fields: scalar name '" + name +
-                                        "' is empty, duplicated or reserved for provenance"));
-      root_scalars.emplace_back(std::move(name), values[i]);
-    }
-    raise_collectively(comm, error);  // identical on all ranks: no rank is left behind
-  }
+  return prov;
+}
 
-  // 4. Output paths: decided on rank 0 and shared, so a bad path fails everywhere.
+/// 3b. Rank 0's scalars, on every rank; their names neither empty,
+/// repeated nor those of the provenance.
+std::vector<std::pair<std::string, double>> root_scalars(
+    MPI_Comm comm, const std::vector<std::pair<std::string, double>>& scalars) {
+  const int rank = comm_rank(comm);
+  LocalError error;
+  std::vector<std::pair<std::string, double>> out;
+  std::int64_t count = static_cast<std::int64_t>(scalars.size());
+  MPI_Bcast(&count, 1, MPI_INT64_T, 0, comm);
+  std::vector<double> values(static_cast<std::size_t>(count));
+  if (rank == 0)
+    for (std::size_t i = 0; i < scalars.size(); ++i) values[i] = scalars[i].second;
+  broadcast_bytes(comm, values.data(), values.size() * sizeof(double), 0);
+  std::set<std::string> names(std::begin(h5::kProvenanceNames), std::end(h5::kProvenanceNames));
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    std::string name = broadcast_string(comm, rank == 0 ? scalars[i].first : std::string(), 0);
+    if (name.empty() || !names.insert(name).second)
+      error.set(std::invalid_argument("write_lattice_fields: scalar name '" + name +
+                                      "' is empty, duplicated or reserved for provenance"));
+    out.emplace_back(std::move(name), values[i]);
+  }
+  raise_collectively(comm, error);  // identical on all ranks: no rank is left behind
+  return out;
+}
+
+/// 4. The output can be written: decided on rank 0 and shared, so a bad
+/// path fails everywhere.
+void check_writable(MPI_Comm comm, const std::string& stem, const std::string& h5_path) {
   if (stem.empty() || fs::path(stem).filename().empty()) {
     throw InputError("write_lattice_fields: output stem '" + stem +
                      "' must name a file (e.g. out/result), not be empty or end in '/'");
   }
-  const std::string h5_path = stem + ".h5";
-  const std::string tmp_path = h5_path + ".tmp";
-  const std::string xmf_path = stem + ".xmf";
-  const std::string nodes_xmf_path = stem + "_nodes.xmf";
-  if (rank == 0) {
-    const std::string why = probe_writable(tmp_path);
+  LocalError error;
+  if (comm_rank(comm) == 0) {
+    const std::string why = probe_writable(h5_path + ".tmp");
     if (!why.empty()) error.set(InputError("cannot write output '" + h5_path + "': " + why));
   }
   raise_collectively(comm, error);
+}
 
-  // 5. Global sizes and this rank's offsets.
+/// 5. Global sizes and this rank's offsets; every bond end a node row.
+GlobalLayout global_layout(MPI_Comm comm, const NodeSlice& nodes, const BondSlice& bonds) {
+  const auto local_nodes = static_cast<std::int64_t>(nodes.coords.size());
+  const auto local_bonds = static_cast<std::int64_t>(bonds.ends.size());
   GlobalLayout layout;
-  layout.nodes = sum_over_ranks(comm, static_cast<std::int64_t>(local_nodes));
-  layout.node_offset = exclusive_prefix_sum(comm, static_cast<std::int64_t>(local_nodes));
-  layout.bonds = sum_over_ranks(comm, static_cast<std::int64_t>(local_bonds));
-  layout.bond_offset = exclusive_prefix_sum(comm, static_cast<std::int64_t>(local_bonds));
+  layout.nodes = sum_over_ranks(comm, local_nodes);
+  layout.node_offset = exclusive_prefix_sum(comm, local_nodes);
+  layout.bonds = sum_over_ranks(comm, local_bonds);
+  layout.bond_offset = exclusive_prefix_sum(comm, local_bonds);
+  LocalError error;
   for (const auto& ends : bonds.ends) {
     for (std::int64_t end : ends) {
       if (end < 0 || end >= layout.nodes) {
@@ -344,18 +352,41 @@ void write_lattice_fields(MPI_Comm comm, const std::string& stem, const NodeSlic
     }
   }
   raise_collectively(comm, error);
+  return layout;
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------
+// Public interface
+// ---------------------------------------------------------------------------
+
+void write_lattice_fields(MPI_Comm comm, const std::string& stem, const NodeSlice& nodes,
+                          const BondSlice& bonds, const Provenance& provenance,
+                          const std::vector<std::pair<std::string, double>>& scalars) {
+  check_slices(comm, nodes, bonds);
+  const std::vector<FieldInfo> node_fields = field_infos(nodes.fields);
+  const std::vector<FieldInfo> bond_fields = field_infos(bonds.fields);
+  check_same_fields(comm, node_fields, bond_fields);
+  // Attributes: rank 0's provenance and scalars are written by everyone.
+  const Provenance prov = root_provenance(comm, provenance);
+  const auto scalars_of_root = root_scalars(comm, scalars);
+  const std::string h5_path = stem + ".h5";
+  check_writable(comm, stem, h5_path);
+  const GlobalLayout layout = global_layout(comm, nodes, bonds);
 
   // 6. The HDF5 file under its temporary name, then rank 0 publishes it
   // and writes the XDMF description.
   write_hdf5_into_place(
       comm, h5_path,
       [&](const std::string& temporary) {
-        write_hdf5(comm, temporary, nodes, bonds, layout, prov, root_scalars);
+        write_hdf5(comm, temporary, nodes, bonds, layout, prov, scalars_of_root);
       },
       [&] {
         const std::string h5_name = fs::path(h5_path).filename().string();
-        write_text_file_atomically(xmf_path, bonds_xdmf(h5_name, layout, node_fields, bond_fields));
-        write_text_file_atomically(nodes_xmf_path, nodes_xdmf(h5_name, layout, node_fields));
+        write_text_file_atomically(stem + ".xmf",
+                                   bonds_xdmf(h5_name, layout, node_fields, bond_fields));
+        write_text_file_atomically(stem + "_nodes.xmf", nodes_xdmf(h5_name, layout, node_fields));
       });
 }
 

@@ -128,6 +128,81 @@ void validate(const PackingSpec& spec) {
          ": the periodic box would be narrower than four largest radii");
 }
 
+namespace {
+
+// The random start: sphere centres uniform in a box of side `side` at the
+// initial volume fraction, sorted along a coarse grid so that neighbours
+// are close in memory (the order a function of the seed only); radii in
+// units of d_min.
+struct RandomStart {
+  std::vector<std::int64_t> order;  // the k-th sphere is the order[k]-th drawn
+  std::vector<double> x, r;
+  double side = 0;
+};
+
+RandomStart random_start(const PackingSpec& spec, const std::vector<double>& d,
+                         std::mt19937_64& g) {
+  const std::int64_t n = spec.count;
+  double solid = 0;
+  for (double di : d) solid += sphere_volume(0.5 * di);
+  RandomStart out;
+  out.side = std::cbrt(solid / spec.initial_fraction);
+  std::vector<double> x(3 * n);
+  for (double& c : x) c = uniform01(g) * out.side;
+  out.order = spatial_order(x, out.side);
+  out.x.resize(3 * n);
+  out.r.resize(n);
+  for (std::int64_t k = 0; k < n; ++k) {
+    for (int a = 0; a < 3; ++a) out.x[3 * k + a] = x[3 * out.order[k] + a];
+    out.r[k] = 0.5 * d[out.order[k]];
+  }
+  return out;
+}
+
+// What the progress callback is told of an attempt.
+JammingAttempt attempt_report(const Compactor& sys, const Compactor::Relaxation& relaxed,
+                              int attempt, double step, std::int64_t n, double seconds) {
+  JammingAttempt a;
+  a.attempt = attempt;
+  a.volume_fraction = sys.fraction();
+  a.jammed = relaxed.jammed;
+  a.step = step;
+  a.energy_per_particle = relaxed.energy / static_cast<double>(n);
+  const auto o = sys.overlaps();
+  a.mean_overlap = o.mean;
+  a.max_overlap = o.max;
+  a.relaxation_steps = relaxed.steps;
+  a.settled = relaxed.settled;
+  a.seconds = seconds;
+  return a;
+}
+
+// The spheres of the compactor's state in the user's units, folded into
+// the box, with the packing's statistics.
+Packing packing_of(const Compactor& sys, const PackingSpec& spec, const std::vector<double>& d,
+                   const std::vector<std::int64_t>& order) {
+  const std::int64_t n = spec.count;
+  Packing p;
+  p.box_side = sys.box() * spec.d_min;
+  p.spheres.resize(static_cast<std::size_t>(n));
+  const auto& pos = sys.positions();
+  for (std::int64_t i = 0; i < n; ++i) {
+    Sphere& s = p.spheres[i];
+    for (int a = 0; a < 3; ++a) {
+      double c = pos[3 * i + a] * spec.d_min;
+      if (c >= p.box_side) c -= p.box_side;
+      if (c < 0) c = 0;
+      s.centre[a] = c;
+    }
+    s.radius = 0.5 * d[order[i]] * spec.d_min;
+  }
+  p.stats = measure_packing(p.spheres, p.box_side, spec.contact_gap);
+  p.stats.neighbour_builds = sys.builds();
+  return p;
+}
+
+}  // namespace
+
 Packing make_packing(const PackingSpec& spec, const JammingProgress& progress) {
   validate(spec);
   const auto t0 = std::chrono::steady_clock::now();
@@ -136,23 +211,8 @@ Packing make_packing(const PackingSpec& spec, const JammingProgress& progress) {
   };
   std::mt19937_64 g(spec.seed);
   const std::vector<double> d = draw_diameters(spec, g);
-  const std::int64_t n = spec.count;
-  double solid = 0;
-  for (double di : d) solid += sphere_volume(0.5 * di);
-  double phi = spec.initial_fraction;
-  const double L0 = std::cbrt(solid / phi);
-  std::vector<double> x(3 * n);
-  for (double& c : x) c = uniform01(g) * L0;
-
-  // Spheres sorted along a coarse grid, so that neighbours are close in
-  // memory; the order is a function of the seed only.
-  const std::vector<std::int64_t> order = spatial_order(x, L0);
-  std::vector<double> xs(3 * n), rs(n);
-  for (std::int64_t k = 0; k < n; ++k) {
-    for (int a = 0; a < 3; ++a) xs[3 * k + a] = x[3 * order[k] + a];
-    rs[k] = 0.5 * d[order[k]];
-  }
-  Compactor sys(std::move(rs), std::move(xs), L0, spec.law);
+  RandomStart start = random_start(spec, d, g);
+  Compactor sys(std::move(start.r), std::move(start.x), start.side, spec.law);
 
   // Phase 1: relax the random start; if it is not jammed (a start below
   // jamming), compress in steps until it is.
@@ -162,6 +222,7 @@ Packing make_packing(const PackingSpec& spec, const JammingProgress& progress) {
   // relaxation of phase 2 starts near a jammed minimum; relaxing an unjammed
   // state into a jammed one close to the jamming point is the slowest case
   // (slow coarsening, many times longer for large counts) and is avoided.
+  double phi = spec.initial_fraction;
   double step = spec.initial_step;
   std::int64_t total_steps = 0;
   int attempt = 0, unsettled = 0;
@@ -176,21 +237,7 @@ Packing make_packing(const PackingSpec& spec, const JammingProgress& progress) {
     ++attempt;
     total_steps += relaxed.steps;
     unsettled += relaxed.settled ? 0 : 1;
-    if (progress) {
-      JammingAttempt a;
-      a.attempt = attempt;
-      a.volume_fraction = sys.fraction();
-      a.jammed = relaxed.jammed;
-      a.step = step;
-      a.energy_per_particle = relaxed.energy / static_cast<double>(n);
-      const auto o = sys.overlaps();
-      a.mean_overlap = o.mean;
-      a.max_overlap = o.max;
-      a.relaxation_steps = relaxed.steps;
-      a.settled = relaxed.settled;
-      a.seconds = seconds();
-      progress(a);
-    }
+    if (progress) progress(attempt_report(sys, relaxed, attempt, step, spec.count, seconds()));
     if (relaxed.jammed) {
       jammed_state = sys.snapshot();
       jammed_phi = phi;
@@ -212,25 +259,10 @@ Packing make_packing(const PackingSpec& spec, const JammingProgress& progress) {
   }
   sys.restore(jammed_state);
 
-  Packing p;
-  p.box_side = sys.box() * spec.d_min;
-  p.spheres.resize(static_cast<std::size_t>(n));
-  const auto& pos = sys.positions();
-  for (std::int64_t i = 0; i < n; ++i) {
-    Sphere& s = p.spheres[i];
-    for (int a = 0; a < 3; ++a) {
-      double c = pos[3 * i + a] * spec.d_min;
-      if (c >= p.box_side) c -= p.box_side;
-      if (c < 0) c = 0;
-      s.centre[a] = c;
-    }
-    s.radius = 0.5 * d[order[i]] * spec.d_min;
-  }
-  p.stats = measure_packing(p.spheres, p.box_side, spec.contact_gap);
+  Packing p = packing_of(sys, spec, d, start.order);
   p.stats.attempts = attempt;
   p.stats.relaxation_steps = total_steps;
   p.stats.unsettled_attempts = unsettled;
-  p.stats.neighbour_builds = sys.builds();
   p.stats.seconds = seconds();
   return p;
 }

@@ -59,37 +59,36 @@ std::map<std::int64_t, Pick> pick_nodes(const DistributedLattice& l,
   return best;
 }
 
-}  // namespace
-
-void constrain(DistributedLattice& l, const std::vector<int>& ghost_owner, SetupReport& report) {
-  const PieceFinder finder(l);
-  std::vector<char> out = finder.underconnected();
-  const std::vector<std::int64_t> label = finder.labels(out);
-
-  std::map<std::int64_t, PieceFaces> pieces;
-  {
-    struct Sums {
-      std::int64_t piece, bottom, top;
-      double bottom_x, bottom_y, top_x, top_y;
-    };
-    std::map<std::int64_t, Sums> mine;
-    for (int n = 0; n < l.owned; ++n) {
-      if (label[n] < 0) continue;
-      auto [it, fresh] = mine.emplace(label[n], Sums{label[n], 0, 0, 0, 0, 0, 0});
-      Sums& s = it->second;
-      if (l.faces[n] & kZmin)
-        ++s.bottom, s.bottom_x += l.coords[n][0], s.bottom_y += l.coords[n][1];
-      if (l.faces[n] & kZmax) ++s.top, s.top_x += l.coords[n][0], s.top_y += l.coords[n][1];
-    }
-    std::vector<Sums> list;
-    for (const auto& [piece, s] : mine) list.push_back(s);
-    for (const Sums& s : allgather(l.comm, list)) {
-      PieceFaces& p = pieces[s.piece];
-      p.bottom += s.bottom, p.top += s.top;
-      p.bottom_x += s.bottom_x, p.bottom_y += s.bottom_y, p.top_x += s.top_x, p.top_y += s.top_y;
-    }
+// Per piece (by label), its nodes on the bottom and top faces and their
+// x and y summed, over all ranks.
+std::map<std::int64_t, PieceFaces> piece_faces(const DistributedLattice& l,
+                                               const std::vector<std::int64_t>& label) {
+  struct Sums {
+    std::int64_t piece, bottom, top;
+    double bottom_x, bottom_y, top_x, top_y;
+  };
+  std::map<std::int64_t, Sums> mine;
+  for (int n = 0; n < l.owned; ++n) {
+    if (label[n] < 0) continue;
+    auto [it, fresh] = mine.emplace(label[n], Sums{label[n], 0, 0, 0, 0, 0, 0});
+    Sums& s = it->second;
+    if (l.faces[n] & kZmin) ++s.bottom, s.bottom_x += l.coords[n][0], s.bottom_y += l.coords[n][1];
+    if (l.faces[n] & kZmax) ++s.top, s.top_x += l.coords[n][0], s.top_y += l.coords[n][1];
   }
-  // A piece with fewer than three nodes on the loaded faces carries no load.
+  std::vector<Sums> list;
+  for (const auto& [piece, s] : mine) list.push_back(s);
+  std::map<std::int64_t, PieceFaces> pieces;
+  for (const Sums& s : allgather(l.comm, list)) {
+    PieceFaces& p = pieces[s.piece];
+    p.bottom += s.bottom, p.top += s.top;
+    p.bottom_x += s.bottom_x, p.bottom_y += s.bottom_y, p.top_x += s.top_x, p.top_y += s.top_y;
+  }
+  return pieces;
+}
+
+// A piece with fewer than three nodes on the loaded faces carries no load:
+// it is dropped. Throws InputError when no piece left joins the faces.
+void keep_loaded_pieces(std::map<std::int64_t, PieceFaces>& pieces) {
   std::int64_t loaded = 0;
   for (auto it = pieces.begin(); it != pieces.end();) {
     const PieceFaces& p = it->second;
@@ -103,13 +102,12 @@ void constrain(DistributedLattice& l, const std::vector<int>& ghost_owner, Setup
   if (loaded == 0)
     throw InputError("tension: no connected piece of the lattice joins the bottom face to the "
                      "top face (sample disconnected)");
-  for (int n = 0; n < l.local_nodes(); ++n)
-    if (label[n] >= 0 && pieces.count(label[n]) == 0) out[n] = 1;
-  for (int n = 0; n < l.local_nodes(); ++n)
-    if (out[n]) l.dof_flags[n] = kFixX | kFixY | kFixZ | kPinned;
+}
 
-  // Anchors: the node nearest the centroid of the piece's face holds x and
-  // y; the node farthest from it, the component across the line between them.
+// Anchors: the node nearest the centroid of the piece's face holds x and
+// y; the node farthest from it, the component across the line between them.
+void anchor_pieces(DistributedLattice& l, const std::vector<std::int64_t>& label,
+                   const std::map<std::int64_t, PieceFaces>& pieces) {
   const auto anchors = pick_nodes(l, label, pieces, [&](std::int64_t piece, const Point& x) {
     const PieceFaces& p = pieces.at(piece);
     return (x[0] - p.x()) * (x[0] - p.x()) + (x[1] - p.y()) * (x[1] - p.y());
@@ -126,7 +124,10 @@ void constrain(DistributedLattice& l, const std::vector<int>& ghost_owner, Setup
     if (l.node_id[n] == f.id)
       l.dof_flags[n] |= std::fabs(f.x - a.x) >= std::fabs(f.y - a.y) ? kFixY : kFixX;
   }
-  // Ghost copies take their owners' flags.
+}
+
+// Ghost copies take their owners' flags.
+void flags_to_ghosts(DistributedLattice& l, const std::vector<int>& ghost_owner) {
   std::unordered_map<std::int64_t, int> owned_index;
   for (int n = 0; n < l.owned; ++n) owned_index.emplace(l.node_id[n], n);
   const std::vector<std::int64_t> ghost_ids(l.node_id.begin() + l.owned, l.node_id.end());
@@ -134,12 +135,10 @@ void constrain(DistributedLattice& l, const std::vector<int>& ghost_owner, Setup
       ask<std::uint8_t>(l.comm, ghost_ids, ghost_owner,
                         [&](std::int64_t id) { return l.dof_flags[owned_index.at(id)]; });
   std::copy(flags.begin(), flags.end(), l.dof_flags.begin() + l.owned);
+}
 
-  // Only the bonds between nodes that are not pinned stay, and the ghosts
-  // they reach.
-  std::int64_t pruned = 0, kept = 0, cut = 0, pinned = 0, bottom = 0, top = 0;
-  std::vector<int> renumber(l.local_nodes(), -1);
-  for (int n = 0; n < l.owned; ++n) renumber[n] = n;
+// The lattice's owned nodes, with no bond and no ghost.
+DistributedLattice owned_nodes_of(const DistributedLattice& l) {
   DistributedLattice k;
   k.comm = l.comm, k.box = l.box, k.mean_bond_length = l.mean_bond_length;
   k.global_nodes = l.global_nodes, k.node_begin = l.node_begin, k.owned = l.owned;
@@ -150,6 +149,16 @@ void constrain(DistributedLattice& l, const std::vector<int>& ghost_owner, Setup
   k.coords = owned_part(l.coords), k.dof_flags = owned_part(l.dof_flags);
   k.faces = owned_part(l.faces), k.node_volume = owned_part(l.node_volume);
   k.node_particle = owned_part(l.node_particle);
+  return k;
+}
+
+// Only the bonds between nodes that are not `out` stay, and the ghosts
+// they reach; counts into `report`.
+void keep_system_bonds(DistributedLattice& l, const std::vector<char>& out, SetupReport& report) {
+  std::int64_t pruned = 0, kept = 0, cut = 0, pinned = 0, bottom = 0, top = 0;
+  std::vector<int> renumber(l.local_nodes(), -1);
+  for (int n = 0; n < l.owned; ++n) renumber[n] = n;
+  DistributedLattice k = owned_nodes_of(l);
   for (int b = 0; b < l.local_bonds(); ++b) {
     const auto [p, q] = l.bond_ends[b];
     if (out[p] || out[q]) {
@@ -195,6 +204,23 @@ void constrain(DistributedLattice& l, const std::vector<int>& ghost_owner, Setup
   report.bottom_nodes = sum_over_ranks(l.comm, bottom);
   report.top_nodes = sum_over_ranks(l.comm, top);
   report.edge_cut = sum_over_ranks(l.comm, cut);
+}
+
+}  // namespace
+
+void constrain(DistributedLattice& l, const std::vector<int>& ghost_owner, SetupReport& report) {
+  const PieceFinder finder(l);
+  std::vector<char> out = finder.underconnected();
+  const std::vector<std::int64_t> label = finder.labels(out);
+  std::map<std::int64_t, PieceFaces> pieces = piece_faces(l, label);
+  keep_loaded_pieces(pieces);
+  for (int n = 0; n < l.local_nodes(); ++n)
+    if (label[n] >= 0 && pieces.count(label[n]) == 0) out[n] = 1;
+  for (int n = 0; n < l.local_nodes(); ++n)
+    if (out[n]) l.dof_flags[n] = kFixX | kFixY | kFixZ | kPinned;
+  anchor_pieces(l, label, pieces);
+  flags_to_ghosts(l, ghost_owner);
+  keep_system_bonds(l, out, report);
 }
 
 }  // namespace lem

@@ -231,11 +231,10 @@ std::uint8_t tension_flags(std::uint8_t faces) {
   return 0;
 }
 
-// Step 4: nodes and bonds at their owners, numbered; ghosts known.
-DistributedLattice distribute(MPI_Comm comm, const NodeBlock& block,
-                              const std::vector<BondRecord>& bonds, const CellOwners& owners,
-                              std::vector<int>& ghost_owner) {
-  const int rank = rank_in(comm);
+// This rank's nodes of the block sent to their owners, in the same order
+// on any rank count: along the Morton curve, then by id.
+std::vector<NodeRecord> route_nodes(MPI_Comm comm, const NodeBlock& block,
+                                    const CellOwners& owners) {
   const Box& box = block.box;
   std::vector<NodeRecord> nodes(block.coords.size());
   std::vector<int> to(nodes.size());
@@ -251,8 +250,18 @@ DistributedLattice distribute(MPI_Comm comm, const NodeBlock& block,
   }
   std::vector<NodeRecord> owned = route(comm, nodes, to);
   nodes.clear();
+  std::sort(owned.begin(), owned.end(), [&](const NodeRecord& a, const NodeRecord& b) {
+    const std::uint64_t ka = morton_code(a.x, box), kb = morton_code(b.x, box);
+    return ka != kb ? ka < kb : a.id < b.id;
+  });
+  return owned;
+}
+
+// Each bond sent to the owners of both its ends, sorted by id there.
+std::vector<BondRecord> route_bonds(MPI_Comm comm, const std::vector<BondRecord>& bonds,
+                                    const CellOwners& owners) {
   std::vector<BondRecord> sent;
-  to.clear();
+  std::vector<int> to;
   for (const BondRecord& b : bonds) {
     const int oi = owners.owner(b.xi), oj = owners.owner(b.xj);
     sent.push_back(b), to.push_back(oi);
@@ -260,21 +269,22 @@ DistributedLattice distribute(MPI_Comm comm, const NodeBlock& block,
   }
   std::vector<BondRecord> held = route(comm, sent, to);
   sent.clear();
-  // The same order on any rank count: nodes along the Morton curve, bonds by id.
-  std::sort(owned.begin(), owned.end(), [&](const NodeRecord& a, const NodeRecord& b) {
-    const std::uint64_t ka = morton_code(a.x, box), kb = morton_code(b.x, box);
-    return ka != kb ? ka < kb : a.id < b.id;
-  });
   std::sort(held.begin(), held.end(),
             [](const BondRecord& a, const BondRecord& b) { return a.id < b.id; });
+  return held;
+}
 
+// The lattice of the owned nodes, numbered after those of the lower ranks;
+// `local` maps their ids to their local indices.
+DistributedLattice lattice_of_owned(MPI_Comm comm, const NodeBlock& block,
+                                    const std::vector<NodeRecord>& owned,
+                                    std::unordered_map<std::int64_t, int>& local) {
   DistributedLattice dl;
   dl.comm = comm;
-  dl.box = box;
+  dl.box = block.box;
   dl.global_nodes = block.nodes;
   dl.owned = static_cast<int>(owned.size());
   dl.node_begin = exclusive_prefix(comm, dl.owned);
-  std::unordered_map<std::int64_t, int> local;  // node id -> local index
   for (const NodeRecord& r : owned) {
     local.emplace(r.id, dl.local_nodes());
     dl.global_index.push_back(dl.node_begin + dl.local_nodes());
@@ -285,7 +295,15 @@ DistributedLattice distribute(MPI_Comm comm, const NodeBlock& block,
     dl.node_volume.push_back(r.volume);
     dl.node_particle.push_back(r.particle);
   }
-  // Ghosts: ends held here but owned elsewhere, asked of their owners.
+  return dl;
+}
+
+// Ghosts: ends of held bonds owned elsewhere, asked of their owners and
+// added in increasing global order (their owners into `ghost_owner`).
+void add_ghosts(MPI_Comm comm, const std::vector<BondRecord>& held, const CellOwners& owners,
+                DistributedLattice& dl, std::unordered_map<std::int64_t, int>& local,
+                std::vector<int>& ghost_owner) {
+  const int rank = rank_in(comm);
   std::map<std::int64_t, int> ghosts;  // id -> owner
   for (const BondRecord& b : held) {
     if (owners.owner(b.xi) != rank) ghosts.emplace(b.i, owners.owner(b.xi));
@@ -306,7 +324,6 @@ DistributedLattice distribute(MPI_Comm comm, const NodeBlock& block,
         g.faces = dl.faces[n];
         return g;
       });
-  // Ghosts in increasing global order.
   std::vector<std::size_t> order(ghost_ids.size());
   std::iota(order.begin(), order.end(), 0);
   std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
@@ -325,6 +342,18 @@ DistributedLattice distribute(MPI_Comm comm, const NodeBlock& block,
     dl.node_particle.push_back(told[g].particle);
     ghost_owner.push_back(ghost_to[g]);
   }
+}
+
+// Step 4: nodes and bonds at their owners, numbered; ghosts known.
+DistributedLattice distribute(MPI_Comm comm, const NodeBlock& block,
+                              const std::vector<BondRecord>& bonds, const CellOwners& owners,
+                              std::vector<int>& ghost_owner) {
+  const std::vector<NodeRecord> owned = route_nodes(comm, block, owners);
+  const std::vector<BondRecord> held = route_bonds(comm, bonds, owners);
+  std::unordered_map<std::int64_t, int> local;  // node id -> local index
+  DistributedLattice dl = lattice_of_owned(comm, block, owned, local);
+  add_ghosts(comm, held, owners, dl, local, ghost_owner);
+  // Each bond reported by the owner of its lower end.
   const std::int64_t end = dl.node_begin + dl.owned;
   for (const BondRecord& b : held) {
     const int p = local.at(b.i), q = local.at(b.j);

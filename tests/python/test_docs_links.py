@@ -116,6 +116,77 @@ def test_reference_pages_carry_no_dates(page):
     assert not found, "\n".join(found)
 
 
+# The results pages explain in words that do not date; what was measured
+# when sits in one block per topic (a "### Measured" heading, to the next
+# heading of its level or above) that links to its write-up in docs/notes/.
+RESULTS_PAGES = ("benchmarks.md", "convergence.md", "paper.md", "scaling.md")
+HEADING = re.compile(r"(#{1,6}) (.*)")
+DAY_WORDS = re.compile(r"\b(today|today's|yesterday|that day|this week|this morning)\b",
+                       re.IGNORECASE)
+NOTES_LINK = re.compile(r"\]\((\.\./)?notes/[^)]+\)")
+
+
+def measured_blocks(lines):
+    """Problems of a results page's text (a list of lines): ISO dates and
+    words like "today" outside a Measured block, a block without a link to
+    docs/notes/, two blocks in one topic (a "##" section)."""
+    problems, blocks_in_topic = [], 0
+    block = None  # (level, first line number, has a notes link)
+    fenced = False
+
+    def close():
+        if block and not block[2]:
+            problems.append("%d: a Measured block without a link to docs/notes/" % block[1])
+
+    for number, line in enumerate(lines, 1):
+        if FENCE.match(line.strip()):
+            fenced = not fenced
+        heading = None if fenced else HEADING.match(line)
+        if heading:
+            level = len(heading.group(1))
+            if block and level <= block[0]:
+                close()
+                block = None
+            if level <= 2:
+                blocks_in_topic = 0
+            if heading.group(2).startswith("Measured"):
+                blocks_in_topic += 1
+                if blocks_in_topic > 1:
+                    problems.append("%d: a second Measured block in one topic" % number)
+                block = (level, number, False)
+        if block:
+            if NOTES_LINK.search(line):
+                block = (block[0], block[1], True)
+            continue
+        if ISO_DATE.search(line):
+            problems.append("%d: a date outside a Measured block: %s" % (number, line.strip()))
+        if DAY_WORDS.search(line):
+            problems.append("%d: a word that dates outside a Measured block: %s"
+                            % (number, line.strip()))
+    close()
+    return problems
+
+
+@pytest.mark.parametrize("page", RESULTS_PAGES)
+def test_results_pages_keep_dates_in_measured_blocks(page):
+    with open(os.path.join(ROOT, "docs", page), encoding="utf-8") as f:
+        problems = measured_blocks(f.read().splitlines())
+    assert not problems, "\n".join(problems)
+
+
+def test_measured_block_rule():
+    ok = ["## Topic", "Timeless words.", "### Measured (2026-11-27)",
+          "Figures of that day ([notes](notes/x.md)).", "## Next", "More words."]
+    assert measured_blocks(ok) == []
+    assert measured_blocks(["## T", "measured 2026-11-27"])  # outside a block
+    assert measured_blocks(["## T", "as today"])
+    assert measured_blocks(["## T", "### Measured", "2026-11-27"])  # no notes link
+    assert measured_blocks(["## T", "### Measured", "[n](notes/a.md)", "### Other",
+                            "2026-11-27"])  # the block ended
+    assert measured_blocks(["## T", "### Measured", "[n](notes/a.md)", "### Measured again",
+                            "[n](notes/b.md)"])  # two in a topic
+
+
 def test_date_rule():
     assert ISO_DATE.search("measured 2026-11-26 on")
     assert not ISO_DATE.search("seeds 1-3, 10-20 s, 2026-11")
