@@ -55,15 +55,31 @@ std::string text(const Summary::Value& v, bool json) {
 
 }  // namespace
 
+const std::vector<SummaryField>& provenance_summary_fields() {
+  static const std::vector<SummaryField> fields = {
+      {"program", "", "the program that wrote it"},
+      {"version", "", "its version"},
+      {"git_hash", "", "the commit it was built from (`-dirty`: with uncommitted changes)"},
+      {"start_time", "", "when the run started (UTC, `YYYY-MM-DDTHH:MM:SSZ`)"},
+      {"mpi_ranks", "", "MPI ranks (only here when the program's table has no such entry)"},
+      {"options", "", "every option in effect, given or not, one `-name value` per word"},
+  };
+  return fields;
+}
+
 void Summary::add(const std::string& name, Value value, const std::string& unit) {
   entries_.push_back({name, unit, std::move(value)});
 }
 
 void Summary::Described::put(const std::string& name, Value value) {
+  skip(name);
+  summary_.entries_.push_back({name, fields_[next_ - 1].unit, std::move(value), true});
+}
+
+void Summary::Described::skip(const std::string& name) {
   if (next_ >= fields_.size() || name != fields_[next_].name)
     throw std::logic_error("summary entry '" + name + "' is not the next of its table (" +
                            (next_ < fields_.size() ? fields_[next_].name : "none left") + ")");
-  summary_.add(name, std::move(value), fields_[next_].unit);
   ++next_;
 }
 
@@ -74,18 +90,23 @@ void Summary::Described::done() const {
 }
 
 void Summary::add_provenance(const Provenance& p) {
-  add("program", p.program);
-  add("version", p.version);
-  add("git_hash", p.git_hash);
-  add("start_time", p.start_time);
+  Described d(*this, provenance_summary_fields());
+  d.put("program", p.program);
+  d.put("version", p.version);
+  d.put("git_hash", p.git_hash);
+  d.put("start_time", p.start_time);
   const bool has_ranks = std::any_of(entries_.begin(), entries_.end(),
                                      [](const Entry& e) { return e.name == "mpi_ranks"; });
-  if (!has_ranks) add("mpi_ranks", static_cast<long long>(p.ranks));
+  if (has_ranks)
+    d.skip("mpi_ranks");
+  else
+    d.put("mpi_ranks", static_cast<long long>(p.ranks));
   std::vector<std::string> options;
   std::istringstream lines(p.options);
   for (std::string line; std::getline(lines, line);)
     if (!line.empty()) options.push_back(line);
-  add("options", options);
+  d.put("options", options);
+  d.done();
 }
 
 std::string Summary::json() const {
@@ -109,6 +130,12 @@ std::string Summary::csv() const {
   return head.str() + "\n" + row.str() + "\n";
 }
 
+std::vector<std::string> Summary::names() const {
+  std::vector<std::string> out;
+  for (const auto& e : entries_) out.push_back(e.name);
+  return out;
+}
+
 std::vector<std::pair<std::string, double>> Summary::numbers() const {
   std::vector<std::pair<std::string, double>> out;
   for (const auto& e : entries_) {
@@ -119,7 +146,17 @@ std::vector<std::pair<std::string, double>> Summary::numbers() const {
   return out;
 }
 
+std::vector<std::string> Summary::undescribed() const {
+  std::vector<std::string> out;
+  for (const auto& e : entries_)
+    if (!e.described) out.push_back(e.name);
+  return out;
+}
+
 void Summary::write(const std::string& stem) const {
+  if (const auto names = undescribed(); !names.empty())
+    throw std::logic_error("summary entry '" + names.front() + "' of " + stem +
+                           " is in no table of fields: describe it (name, unit, meaning)");
   write_text_file_atomically(stem + ".csv", csv());
   try {
     write_text_file_atomically(stem + ".json", json());

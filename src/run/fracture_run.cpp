@@ -11,6 +11,7 @@
 #include "lem/protocol/checkpoint.hpp"
 #include "lem/run/result_folder.hpp"
 #include "lem/setup/setup.hpp"
+#include "lem/setup/units.hpp"
 #include "lem/base/stop.hpp"
 #include "lem/fields/tension_output.hpp"
 #include "lem/io/write_watch.hpp"
@@ -34,7 +35,7 @@ constexpr double kCalibrationStopFraction = 0.9;
 struct Prepared {
   DistributedLattice lattice;
   SetupReport setup;
-  double stress_unit = 1;  // sigma_raw * stress_unit = sigma in E^phase (or k/a) units
+  double stress_unit = 1;  // sigma_raw * stress_unit = sigma in E^phase (or k/a) units (units.hpp)
 };
 
 struct Case {
@@ -49,11 +50,7 @@ Prepared prepare(MPI_Comm comm, const SampleOptions& sample, double break_strain
   Prepared p;
   p.lattice = setup_sample_lattice(comm, sample, p.setup);
   DistributedLattice& lattice = p.lattice;
-  // Stress unit: a sample file's bonds have k = E^phase a_s and f =
-  // sigma^phase a_s^2, so its stresses are already in E^phase units; a
-  // generated lattice's are given in units of k/a (k = -lattice_k).
-  const bool from_file = !sample.sample_file.empty();
-  p.stress_unit = from_file ? 1.0 : lattice.mean_bond_length / sample.random.stiffness;
+  p.stress_unit = stress_unit(sample, lattice.mean_bond_length).per_lattice_stress;
   if (lattice.bond_strength.empty()) {  // generated lattice: f = k a eps_b
     lattice.bond_strength.resize(lattice.bond_stiffness.size());
     for (int b = 0; b < lattice.local_bonds(); ++b)

@@ -12,6 +12,8 @@
 #include "lem/base/options.hpp"
 #include "lem/setup/setup.hpp"
 #include "lem/base/summary.hpp"
+#include "lem/run/programs.hpp"
+#include "lem/setup/sample_options.hpp"
 
 namespace lem {
 
@@ -50,19 +52,8 @@ std::string fit_row(const char* name, const LineFit& f) {
   return s.str();
 }
 
-}  // namespace
-
-void run_stiffness_study(MPI_Comm comm, StiffnessStudy study, const SolverOptions& solver,
-                         const Provenance& provenance) {
-  const CementedSampleSpec& spec = study.spec;
-  const PhaseTable& table = study.table;
-  const std::vector<double>& fractions = study.fractions;
-  const bool halved_faces = study.halved_faces;
-  ResultFolder::Request& request = study.request;
-  int rank = 0;
-  MPI_Comm_rank(comm, &rank);
-
-  // The granular sample lives on rank 0; the other ranks only solve.
+// The packing and lattice of the study, on rank 0 (the other ranks only solve).
+CementedSample granular_sample(MPI_Comm comm, const CementedSampleSpec& spec) {
   CementedSample sample;
   run_on_root(comm, [&] {
     sample = build_granular_sample(spec);
@@ -75,9 +66,131 @@ void run_stiffness_study(MPI_Comm comm, StiffnessStudy study, const SolverOption
         (long long)st.bonds, st.nodes_per_particle, st.packing_seconds, st.lattice_seconds,
         st.voronoi_seconds);
   });
+  return sample;
+}
 
+// stiffness.csv and the series the fits are made of (rank 0).
+struct StiffnessTable {
+  std::ostringstream csv;
+  std::vector<double> rho, bare, adhesive, coverage;
+};
+
+// Pull the sample at every fraction, bare and adhesive; rows on rank 0.
+void pull_fractions(MPI_Comm comm, const StiffnessStudy& study, const SolverOptions& solver,
+                    CementedSample& sample, const Elastic& unit, StiffnessTable& t) {
+  const PhaseTable& table = study.table;
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  const double Ep = unit.young * table.modulus[int(Phase::p)],
+               Em = unit.young * table.modulus[int(Phase::m)],
+               Epm = unit.young * table.modulus[int(Phase::pm)];
+  t.csv.precision(8);
+  // E_eff/E^[p] against rho^m (paper figs. 5, 11; appendix D); E^[p],
+  // E^[m] and the lattice nu are in summary.json.
+  t.csv << "rho_m_requested,rho_m,rho_p,rho_v,rho_pp,S_pm,bridges_per_particle,"
+           "eligible_per_particle,bonds_p,bonds_m,bonds_v,bonds_pp,bonds_pm,"
+           "E_bare,E_adhesive,HS_bare,HS_adhesive,nu_bare,nu_adhesive,its_bare,"
+           "its_adhesive\n";
+  say("%6s %7s %7s %7s %7s %7s %7s %8s %6s\n", "rho_m", "lattice", "E_bare", "HS_bare", "E_adh",
+      "HS_adh", "S_pm", "bridges", "time");
+  for (double fraction : study.fractions) {
+    const double t0 = MPI_Wtime();
+    PhaseTable bare_table = table, adhesive_table = table;
+    bare_table.modulus[int(Phase::pp)] = 0;
+    adhesive_table.modulus[int(Phase::pp)] = table.modulus[int(Phase::pm)];
+    BridgeSpec bridges = study.spec.bridges;
+    bridges.matrix_fraction = fraction;
+    const Elastic b = pull(comm, solver, study.halved_faces, [&] {
+      add_matrix(sample, bridges);
+      return mechanical_lattice(sample, bare_table);
+    });
+    const Elastic a = pull(comm, solver, study.halved_faces,
+                           [&] { return mechanical_lattice(sample, adhesive_table); });
+    if (rank != 0) continue;  // the statistics are on rank 0
+    const auto& st = sample.stats;
+    const double rho_pp = st.bond_volume_fraction[int(Phase::pp)];
+    const auto hs =
+        appendix_d_estimates({st.rho_p, st.rho_m, st.rho_v, rho_pp}, Ep, Em, Epm, unit.poisson);
+    t.rho.push_back(st.rho_m);
+    t.bare.push_back(b.young / Ep);
+    t.adhesive.push_back(a.young / Ep);
+    t.coverage.push_back(st.interface_ratio);
+    t.csv << fraction << "," << st.rho_m << "," << st.rho_p << "," << st.rho_v << "," << rho_pp
+          << "," << st.interface_ratio << "," << st.bridges_per_particle << ","
+          << st.eligible_per_particle;
+    for (auto n : st.bonds_per_phase) t.csv << "," << n;
+    t.csv << "," << t.bare.back() << "," << t.adhesive.back() << "," << hs.bare / Ep << ","
+          << hs.adhesive / Ep << "," << b.poisson << "," << a.poisson << "," << b.iterations << ","
+          << a.iterations << "\n";
+    say("%6.3f %7.4f %7.4f %7.4f %7.4f %7.4f %7.4f %8.2f %5.1fs\n", fraction, st.rho_m,
+        t.bare.back(), hs.bare / Ep, t.adhesive.back(), hs.adhesive / Ep, st.interface_ratio,
+        st.bridges_per_particle, MPI_Wtime() - t0);
+  }
+}
+
+// Rank 0: the fits, what they say, and fits.csv and stiffness.csv in `dir`.
+StiffnessFindings fit_and_write(const StiffnessTable& t, const StiffnessFindings& lattice,
+                                const std::string& dir) {
+  StiffnessFindings f = lattice;
+  f.bare = fit_line(t.rho, t.bare);
+  f.adhesive = fit_line(t.rho, t.adhesive);
+  f.coverage = fit_line(t.rho, t.coverage);
+  f.bare_over_em_at_highest = t.bare.back() * f.e_p / f.e_m;
+  f.adhesive_over_em_at_highest = t.adhesive.back() * f.e_p / f.e_m;
+  say("linear fits against rho^m (intercept, slope, largest residual):\n"
+      "  E_bare/E^[p]     %.4f %+.4f  %.1e\n  E_adhesive/E^[p] %.4f %+.4f  "
+      "%.1e\n"
+      "  S^pm/S^p         %.4f %+.4f  %.1e\n",
+      f.bare.intercept, f.bare.slope, f.bare.max_residual, f.adhesive.intercept, f.adhesive.slope,
+      f.adhesive.max_residual, f.coverage.intercept, f.coverage.slope, f.coverage.max_residual);
+  say("at rho^m = %.3f: E_eff/E^[m] = %.3f bare, %.3f adhesive (paper at "
+      "0.28: 1.6, 2.5)\n",
+      t.rho.back(), f.bare_over_em_at_highest, f.adhesive_over_em_at_highest);
+  write_text_file_atomically(dir + "/fits.csv", "quantity,intercept,slope,max_residual\n" +
+                                                    fit_row("E_bare_over_Ep", f.bare) +
+                                                    fit_row("E_adhesive_over_Ep", f.adhesive) +
+                                                    fit_row("S_pm_over_S_p", f.coverage));
+  write_text_file_atomically(dir + "/stiffness.csv", t.csv.str());
+  return f;
+}
+
+}  // namespace
+
+StiffnessStudy read_stiffness_study(MPI_Comm comm) {
+  StiffnessStudy study;
+  study.spec = read_cemented_sample_spec(comm);
+  study.table = read_phase_table(comm);
+  {
+    OptionGroup g(comm, "Stiffness against matrix fraction");
+    study.fractions = g.positive_reals("-stiffness_fractions",
+                                       "Matrix fractions rho^m to run "
+                                       "(the paper's eight by default; -matrix_fraction has "
+                                       "no use here and is refused)",
+                                       {0.06, 0.1, 0.13, 0.17, 0.2, 0.22, 0.24, 0.28}, true);
+    if (g.given("-matrix_fraction"))
+      throw InputError("option -matrix_fraction has no use in lem_stiffness, which makes "
+                       "a sample at each of -stiffness_fractions: give it there");
+    study.request = ResultFolder::read_request(g, "results/stiffness");
+    study.halved_faces = read_face_bond_option(g);
+  }
+  for (double f : study.fractions)
+    if (f > 0.36)
+      throw InputError("option -stiffness_fractions: " + std::to_string(f) +
+                       " is out of range (allowed: (0, 0.36], the pore space of a "
+                       "dense packing)");
+  if (study.fractions.size() < 2)
+    throw InputError("option -stiffness_fractions: give at least two fractions for the fits");
+  if (study.spec.generator != LatticeGenerator::serial)
+    throw InputError("option -lattice_generator cells: lem_stiffness builds its samples "
+                     "on one rank, with -lattice_generator serial only");
+  return study;
+}
+
+void run_stiffness_study(MPI_Comm comm, StiffnessStudy study, const SolverOptions& solver,
+                         const Provenance& provenance) {
+  CementedSample sample = granular_sample(comm, study.spec);
   // E^[phi] = c E^phi: a homogeneous lattice of bonds k = a (E = 1).
-  const Elastic unit = pull(comm, solver, halved_faces, [&] {
+  const Elastic unit = pull(comm, solver, study.halved_faces, [&] {
     Lattice l = sample.lattice;
     const double a = lattice_stats(l).mean_length;
     l.stiffness.assign(l.bond_count(), a);
@@ -86,95 +199,76 @@ void run_stiffness_study(MPI_Comm comm, StiffnessStudy study, const SolverOption
   check_unused_options();
   // Only once the sample and the solver options proved good: bad input
   // keeps older results.
-  request.fingerprint = options_fingerprint(comm);
-  const ResultFolder folder(comm, stiffness_layout(), request);
+  study.request.fingerprint = options_fingerprint(comm);
+  const ResultFolder folder(comm, stiffness_layout(), study.request);
   if (!folder.begin()) return;
-  const std::string& dir = folder.work_dir();
-  auto lattice_modulus = [&](Phase p) { return unit.young * table.modulus[int(p)]; };
-  const double Ep = lattice_modulus(Phase::p), Em = lattice_modulus(Phase::m),
-               Epm = lattice_modulus(Phase::pm);
+  StiffnessFindings lattice;
+  lattice.e_p = unit.young * study.table.modulus[int(Phase::p)];
+  lattice.e_m = unit.young * study.table.modulus[int(Phase::m)];
+  lattice.poisson = unit.poisson;
+  lattice.halved_faces = study.halved_faces;
   say("homogeneous lattice: E = %.5f E^phi, nu = %.4f -> E^[p] = %.4f, E^[m] = "
       "%.4f, "
       "E^[pm] = %.4f (units k/a)\n",
-      unit.young, unit.poisson, Ep, Em, Epm);
-
-  std::ostringstream csv;
-  csv.precision(8);
-  // E_eff/E^[p] against rho^m (paper figs. 5, 11; appendix D); E^[p],
-  // E^[m] and the lattice nu are in summary.json.
-  csv << "rho_m_requested,rho_m,rho_p,rho_v,rho_pp,S_pm,bridges_per_particle,"
-         "eligible_per_particle,bonds_p,bonds_m,bonds_v,bonds_pp,bonds_pm,"
-         "E_bare,E_adhesive,HS_bare,HS_adhesive,nu_bare,nu_adhesive,its_bare,"
-         "its_adhesive\n";
-  std::vector<double> rho, bare, adhesive, coverage;
-  say("%6s %7s %7s %7s %7s %7s %7s %8s %6s\n", "rho_m", "lattice", "E_bare", "HS_bare", "E_adh",
-      "HS_adh", "S_pm", "bridges", "time");
-  for (double fraction : fractions) {
-    const double t0 = MPI_Wtime();
-    PhaseTable bare_table = table, adhesive_table = table;
-    bare_table.modulus[int(Phase::pp)] = 0;
-    adhesive_table.modulus[int(Phase::pp)] = table.modulus[int(Phase::pm)];
-    BridgeSpec bridges = spec.bridges;
-    bridges.matrix_fraction = fraction;
-    const Elastic b = pull(comm, solver, halved_faces, [&] {
-      add_matrix(sample, bridges);
-      return mechanical_lattice(sample, bare_table);
-    });
-    const Elastic a = pull(comm, solver, halved_faces,
-                           [&] { return mechanical_lattice(sample, adhesive_table); });
-    if (rank != 0) continue;  // the statistics are on rank 0
-    const auto& st = sample.stats;
-    const double rho_pp = st.bond_volume_fraction[int(Phase::pp)];
-    const auto hs =
-        appendix_d_estimates({st.rho_p, st.rho_m, st.rho_v, rho_pp}, Ep, Em, Epm, unit.poisson);
-    rho.push_back(st.rho_m);
-    bare.push_back(b.young / Ep);
-    adhesive.push_back(a.young / Ep);
-    coverage.push_back(st.interface_ratio);
-    csv << fraction << "," << st.rho_m << "," << st.rho_p << "," << st.rho_v << "," << rho_pp << ","
-        << st.interface_ratio << "," << st.bridges_per_particle << "," << st.eligible_per_particle;
-    for (auto n : st.bonds_per_phase) csv << "," << n;
-    csv << "," << bare.back() << "," << adhesive.back() << "," << hs.bare / Ep << ","
-        << hs.adhesive / Ep << "," << b.poisson << "," << a.poisson << "," << b.iterations << ","
-        << a.iterations << "\n";
-    say("%6.3f %7.4f %7.4f %7.4f %7.4f %7.4f %7.4f %8.2f %5.1fs\n", fraction, st.rho_m, bare.back(),
-        hs.bare / Ep, adhesive.back(), hs.adhesive / Ep, st.interface_ratio,
-        st.bridges_per_particle, MPI_Wtime() - t0);
-  }
+      unit.young, unit.poisson, lattice.e_p, lattice.e_m,
+      unit.young * study.table.modulus[int(Phase::pm)]);
+  StiffnessTable table;
+  pull_fractions(comm, study, solver, sample, unit, table);
   Summary summary;
-  if (rank == 0) {
-    const auto fb = fit_line(rho, bare), fa = fit_line(rho, adhesive), fs = fit_line(rho, coverage);
-    say("linear fits against rho^m (intercept, slope, largest residual):\n"
-        "  E_bare/E^[p]     %.4f %+.4f  %.1e\n  E_adhesive/E^[p] %.4f %+.4f  "
-        "%.1e\n"
-        "  S^pm/S^p         %.4f %+.4f  %.1e\n",
-        fb.intercept, fb.slope, fb.max_residual, fa.intercept, fa.slope, fa.max_residual,
-        fs.intercept, fs.slope, fs.max_residual);
-    say("at rho^m = %.3f: E_eff/E^[m] = %.3f bare, %.3f adhesive (paper at "
-        "0.28: 1.6, 2.5)\n",
-        rho.back(), bare.back() * Ep / Em, adhesive.back() * Ep / Em);
-    summary.add("E_p_lattice", Ep);
-    summary.add("E_m_lattice", Em);
-    summary.add("lattice_poisson", unit.poisson);
-    summary.add("face_bonds", halved_faces ? "halved" : "whole");
-    summary.add("bare_intercept", fb.intercept);
-    summary.add("bare_slope", fb.slope);
-    summary.add("adhesive_intercept", fa.intercept);
-    summary.add("adhesive_slope", fa.slope);
-    summary.add("coverage_intercept", fs.intercept);
-    summary.add("coverage_slope", fs.slope);
-    summary.add("bare_over_Em_at_highest", bare.back() * Ep / Em);
-    summary.add("adhesive_over_Em_at_highest", adhesive.back() * Ep / Em);
+  run_on_root(comm, [&] {
+    summary = stiffness_summary(fit_and_write(table, lattice, folder.work_dir()));
     summary.add_provenance(provenance);
-    write_text_file_atomically(dir + "/fits.csv", "quantity,intercept,slope,max_residual\n" +
-                                                      fit_row("E_bare_over_Ep", fb) +
-                                                      fit_row("E_adhesive_over_Ep", fa) +
-                                                      fit_row("S_pm_over_S_p", fs));
-    write_text_file_atomically(dir + "/stiffness.csv", csv.str());
-  }
+  });
   folder.commit(summary, {});
   folder.install();
-  say("plot: /usr/bin/python3 tools/plot_stiffness.py %s\n", request.dir.c_str());
+  say("plot: /usr/bin/python3 tools/plot_stiffness.py %s\n", study.request.dir.c_str());
+}
+
+const std::vector<SummaryField>& stiffness_summary_fields() {
+  static const std::vector<SummaryField> fields = {
+      {"E_p_lattice", "", "E^[p] of the homogeneous lattice, in E^φ units"},
+      {"E_m_lattice", "", "E^[m] of the homogeneous lattice, in E^φ units"},
+      {"lattice_poisson", "", "ν of the homogeneous lattice"},
+      {"face_bonds", "", "`whole` or `halved` (`-lattice_face_bonds`)"},
+      {"bare_intercept", "", "the fit of E_bare/E^[p] against ρ^m (`fits.csv`): intercept"},
+      {"bare_slope", "", "the fit of E_bare/E^[p]: slope"},
+      {"adhesive_intercept", "", "the fit of E_adhesive/E^[p]: intercept"},
+      {"adhesive_slope", "", "the fit of E_adhesive/E^[p]: slope"},
+      {"coverage_intercept", "", "the fit of S^pm/S^p: intercept"},
+      {"coverage_slope", "", "the fit of S^pm/S^p: slope"},
+      {"bare_over_Em_at_highest", "", "E_eff/E^[m] with bare contacts at the largest fraction"},
+      {"adhesive_over_Em_at_highest", "", "E_eff/E^[m] with adhesive contacts there"},
+  };
+  return fields;
+}
+
+Summary stiffness_summary(const StiffnessFindings& f) {
+  Summary summary;
+  Summary::Described d(summary, stiffness_summary_fields());
+  d.put("E_p_lattice", f.e_p);
+  d.put("E_m_lattice", f.e_m);
+  d.put("lattice_poisson", f.poisson);
+  d.put("face_bonds", std::string(f.halved_faces ? "halved" : "whole"));
+  d.put("bare_intercept", f.bare.intercept);
+  d.put("bare_slope", f.bare.slope);
+  d.put("adhesive_intercept", f.adhesive.intercept);
+  d.put("adhesive_slope", f.adhesive.slope);
+  d.put("coverage_intercept", f.coverage.intercept);
+  d.put("coverage_slope", f.coverage.slope);
+  d.put("bare_over_Em_at_highest", f.bare_over_em_at_highest);
+  d.put("adhesive_over_Em_at_highest", f.adhesive_over_em_at_highest);
+  d.done();
+  return summary;
+}
+
+int stiffness_program(int argc, char** argv, const char* help) {
+  return run_driver(argc, argv, help, [](MPI_Comm comm) {
+    const StiffnessStudy study = read_stiffness_study(comm);
+    const SolverOptions solver = read_solver_options(comm);
+    check_option_names(comm);
+    const auto provenance = collect_provenance(comm, "lem_stiffness");
+    run_stiffness_study(comm, study, solver, provenance);
+  });
 }
 
 }  // namespace lem

@@ -1,13 +1,23 @@
-// lem_fracture's summary is written from one table of fields
-// (src/run/fracture_summary.cpp): names are unique and described, a summary
-// written out of the table's order is refused, and the table of
-// docs/reference/outputs.md is the table of the code (LEM_WRITE_DOCS=1
-// rewrites it from the code).
+// Every program's summary is written from a table of fields (name, unit,
+// meaning; lem/run/programs.hpp lists them): names are unique and
+// described, a summary written out of its table's order is refused, an
+// entry that no table describes is refused when the summary is written,
+// each program's summary holds exactly its table's entries, and each table
+// is the one of docs/reference/outputs.md (LEM_WRITE_DOCS=1 rewrites the
+// page's tables from the code).  lem_fracture's table is
+// src/run/fracture_summary.cpp.
+#include "lem/base/summary.hpp"
+#include "lem/report/sample_summary.hpp"
+#include "lem/report/tension_summary.hpp"
+#include "lem/run/convergence_study.hpp"
 #include "lem/run/fracture_summary.hpp"
+#include "lem/run/programs.hpp"
+#include "lem/run/stiffness_study.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -18,25 +28,47 @@ using namespace lem;
 
 namespace {
 
-const std::string kBegin = "<!-- begin: generated from src/run/fracture_summary.cpp";
 const std::string kEnd = "<!-- end -->";
 
-std::string markdown_table() {
+// The marker line above the generated table of `what` in outputs.md.
+std::string begin_marker(const std::string& what) {
+  return "<!-- begin: summary table of " + what +
+         "; LEM_WRITE_DOCS=1 build/tests/test_fracture_summary rewrites it -->";
+}
+
+std::string markdown_table(const std::vector<SummaryField>& fields) {
   std::string t = "| entry | meaning |\n|---|---|\n";
-  for (const SummaryField& f : fracture_summary_fields()) {
+  for (const SummaryField& f : fields) {
     const std::string unit = *f.unit ? std::string("[") + f.unit + "]" : "";
     t += "| `" + std::string(f.name) + unit + "` | " + f.meaning + " |\n";
   }
   return t;
 }
 
+// Every table the page shows: the programs' and the provenance.
+std::vector<ProgramSummary> page_tables() {
+  auto tables = program_summaries();
+  tables.push_back({"the provenance", provenance_summary_fields()});
+  return tables;
+}
+
+std::vector<std::string> names_of(const std::vector<SummaryField>& fields,
+                                  const std::set<std::string>& left_out = {}) {
+  std::vector<std::string> names;
+  for (const SummaryField& f : fields)
+    if (!left_out.count(f.name)) names.push_back(f.name);
+  return names;
+}
+
 }  // namespace
 
 TEST(FractureSummary, FieldsAreUniqueAndDescribed) {
-  std::set<std::string> names;
-  for (const SummaryField& f : fracture_summary_fields()) {
-    EXPECT_TRUE(names.insert(f.name).second) << f.name << " twice";
-    EXPECT_GT(std::string(f.meaning).size(), 3u) << f.name << " has no meaning";
+  for (const ProgramSummary& p : page_tables()) {
+    std::set<std::string> names;
+    for (const SummaryField& f : p.fields) {
+      EXPECT_TRUE(names.insert(f.name).second) << p.program << ": " << f.name << " twice";
+      EXPECT_GT(std::string(f.meaning).size(), 3u) << p.program << ": " << f.name;
+    }
   }
 }
 
@@ -59,25 +91,75 @@ TEST(FractureSummary, UnitsGoToTheCsvHeader) {
   EXPECT_NE(s.csv().find(",seconds[s],peak_memory_mb[MB],"), std::string::npos);
 }
 
-TEST(FractureSummary, OutputsPageListsTheTable) {
+// A summary file holds described entries only: one added beside its table
+// is refused before anything is written.
+TEST(FractureSummary, AnEntryOfNoTableIsNotWritten) {
+  Summary s = convergence_summary(SampleOptions{});
+  Provenance provenance;
+  provenance.program = "lem_convergence";
+  s.add_provenance(provenance);
+  EXPECT_TRUE(s.undescribed().empty());
+  s.add("extra", 1.0);
+  EXPECT_EQ(s.undescribed(), std::vector<std::string>{"extra"});
+  const auto stem = std::filesystem::temp_directory_path() / "lem_undescribed_summary";
+  for (const char* ext : {".json", ".csv"}) std::filesystem::remove(stem.string() + ext);
+  try {
+    s.write(stem.string());
+    ADD_FAILURE() << "a summary with an undescribed entry was written";
+  } catch (const std::logic_error& e) {
+    EXPECT_NE(std::string(e.what()).find("'extra'"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(std::filesystem::exists(stem.string() + ".json"));
+  EXPECT_FALSE(std::filesystem::exists(stem.string() + ".csv"));
+}
+
+// Each program's summary holds its table's entries, in order, and no other.
+TEST(FractureSummary, TensionWritesItsTable) {
+  SampleOptions generated;
+  SetupReport setup;
+  TensionResponse response;
+  response.young_modulus = 2;
+  const Summary s = tension_summary(generated, setup, 0.5, response, SolveReport{}, 2, {});
+  const std::set<std::string> file_only = {"sample_file", "rho_p", "rho_m",
+                                           "rho_v",       "E_p",   "E_eff_over_E_p"};
+  EXPECT_EQ(s.names(), names_of(tension_summary_fields(), file_only));
+  SampleOptions file = generated;
+  file.sample_file = "x.h5";
+  const Summary f = tension_summary(file, setup, 0.5, response, SolveReport{}, 2, {});
+  EXPECT_EQ(f.names(), names_of(tension_summary_fields()));
+  EXPECT_TRUE(f.undescribed().empty());
+}
+
+TEST(FractureSummary, SampleStiffnessConvergenceWriteTheirTables) {
+  EXPECT_EQ(sample_summary(CementedSampleStats{}, CementedSampleSpec{}, "x.h5", {}).names(),
+            names_of(sample_summary_fields()));
+  EXPECT_EQ(stiffness_summary(StiffnessFindings{}).names(), names_of(stiffness_summary_fields()));
+  EXPECT_EQ(convergence_summary(SampleOptions{}).names(), names_of(convergence_summary_fields()));
+}
+
+TEST(FractureSummary, OutputsPageListsTheTables) {
   const std::string path = std::string(LEM_SOURCE_DIR) + "/docs/reference/outputs.md";
   std::ifstream in(path);
   ASSERT_TRUE(in) << "cannot read " << path;
   std::stringstream buffer;
   buffer << in.rdbuf();
   std::string page = buffer.str();
-  const std::size_t begin = page.find(kBegin);
-  ASSERT_NE(begin, std::string::npos) << path << " has no generated summary table";
-  const std::size_t body = page.find('\n', begin) + 1;
-  const std::size_t end = page.find(kEnd, body);
-  ASSERT_NE(end, std::string::npos);
-  const std::string expected = markdown_table();
-  if (std::getenv("LEM_WRITE_DOCS")) {
-    page.replace(body, end - body, expected);
-    std::ofstream(path) << page;
-    return;
+  bool rewrite = std::getenv("LEM_WRITE_DOCS") != nullptr;
+  for (const ProgramSummary& p : page_tables()) {
+    const std::size_t begin = page.find(begin_marker(p.program));
+    ASSERT_NE(begin, std::string::npos)
+        << path << " has no generated summary table of " << p.program;
+    const std::size_t body = page.find('\n', begin) + 1;
+    const std::size_t end = page.find(kEnd, body);
+    ASSERT_NE(end, std::string::npos);
+    const std::string expected = markdown_table(p.fields);
+    if (rewrite) {
+      page.replace(body, end - body, expected);
+      continue;
+    }
+    EXPECT_EQ(page.substr(body, end - body), expected)
+        << path << ": the summary table of " << p.program << " differs from the code: run "
+        << "LEM_WRITE_DOCS=1 test_fracture_summary to rewrite it";
   }
-  EXPECT_EQ(page.substr(body, end - body), expected)
-      << path << " differs from src/run/fracture_summary.cpp: run LEM_WRITE_DOCS=1 "
-      << "test_fracture_summary to rewrite it";
+  if (rewrite) std::ofstream(path) << page;
 }

@@ -19,10 +19,15 @@ struct SummaryField {
   const char *name, *unit, *meaning;
 };
 
+/// The entries add_provenance() appends to every summary.
+const std::vector<SummaryField>& provenance_summary_fields();
+
 class Summary {
  public:
   using Value = std::variant<double, long long, std::string, std::vector<std::string>>;
   /// `unit` goes into the CSV header as name[unit]; empty for plain numbers.
+  /// An entry added so is not described: fine for a sidecar (json(), csv(),
+  /// numbers()), refused by write().
   void add(const std::string& name, Value value, const std::string& unit = "");
   /// Entries in the order of a table of fields: put(name, value) takes the
   /// next field, whose unit it writes, and throws std::logic_error when the
@@ -32,6 +37,9 @@ class Summary {
     Described(Summary& summary, const std::vector<SummaryField>& fields)
         : summary_(summary), fields_(fields) {}
     void put(const std::string& name, Value value);
+    /// Pass over the next field, which this run does not have (a field
+    /// whose meaning says when it is written); the same check as put().
+    void skip(const std::string& name);
     void done() const;
 
    private:
@@ -47,8 +55,14 @@ class Summary {
   std::string csv() const;
   /// <stem>.csv and <stem>.json, each written atomically, and both or
   /// neither: when the second write fails, the first file is removed.
-  /// Throws IoError naming the file.
+  /// Throws IoError naming the file, and std::logic_error before writing
+  /// when an entry was not described (put by Described or add_provenance):
+  /// every entry of a program's summary is documented.
   void write(const std::string& stem) const;
+  /// The names of the entries that no table described.
+  std::vector<std::string> undescribed() const;
+  /// The names of the entries, in order.
+  std::vector<std::string> names() const;
   /// The numeric entries (for HDF5 attributes).
   std::vector<std::pair<std::string, double>> numbers() const;
 
@@ -56,6 +70,7 @@ class Summary {
   struct Entry {
     std::string name, unit;
     Value value;
+    bool described = false;
   };
   std::vector<Entry> entries_;
 };
