@@ -28,7 +28,6 @@ import sys
 ALLOWED = {
     "src/protocol/fracture.cpp:Protocol::run": 112,
     "src/protocol/options.cpp:read_fracture_options": 165,
-    "src/run/stiffness_study.cpp:run_stiffness_study": 124,
     "src/system/distributed_lattice.cpp:distribute_lattice": 102,
     "src/system/particle_deflation.cpp:ParticleDeflation::build_space": 113,
     "src/system/tension.cpp:make_tension_constraints": 129,
