@@ -90,8 +90,7 @@ std::string fracture_fingerprint(const DistributedLattice& l, const FractureOpti
     << "\nskip_idle=" << o.skip_idle << "\npc_rebuild_ruptures=" << o.rebuild_after_ruptures
     << "\npc_rebuild_growth=" << o.rebuild_iteration_growth << "\nrelaxation=" << o.relaxation
     << "\n";
-  const RelaxationEntry& scheme = relaxation_named(o.relaxation);
-  if (scheme.fingerprint) s << scheme.fingerprint();
+  s << registered_fingerprint(o.break_rule, o.relaxation);  // their own options' lines
   s << "decision_safety=" << o.decision_safety << "\ndecision_interval=" << o.decision_interval
     << "\ndecided_closing=" << o.decided_closing << "\ntie_band=" << o.tie_band
     << "\ntie_rtol=" << o.tie_rtol << "\n";

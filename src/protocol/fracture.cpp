@@ -73,6 +73,10 @@ class Protocol {
   }
   double strain_of(std::int64_t step) const { return displacement_of(step) / l_.box.length(2); }
   void resume();
+  /// The load steps, until one of the ends (returned, for end_reason).
+  std::string load_steps();
+  /// The run's result, on the field it ended on; the logs moved into place.
+  FractureResult result(const std::string& end, bool resumed);
   void visit_idle(std::int64_t step);
   void visit(std::int64_t step, bool first);
   void note_peak(const TensionResponse& r);
@@ -265,11 +269,17 @@ FractureResult Protocol::run() {
   }
   // PETSc has read its options by now: a misspelt one stops the run here.
   check_unused_options();
+  const std::string end = load_steps();
+  fault_pause(l_.comm, "fracture_end", "after the last load step");
+  // The end is kept: on an equilibrium (a run that ends on a decided field
+  // ran out of load steps).
+  if (!system_.at_equilibrium()) solver_.solve(system_.top_displacement(), false);
+  return result(end, resumed);
+}
 
-  std::string end;
+std::string Protocol::load_steps() {
   for (;;) {
-    end = end_reason();
-    if (!end.empty()) break;
+    if (std::string end = end_reason(); !end.empty()) return end;
 
     const int signal = stop_requested(l_.comm, "load_step");
     double since = MPI_Wtime() - last_checkpoint_time_;
@@ -296,11 +306,9 @@ FractureResult Protocol::run() {
                                  earlier.empty() ? nullptr : &earlier, o_.decision_safety);
     }
     decision_stage.pop();
-    if (next > o_.max_steps) {
-      end = next == o_.max_steps + 1 && o_.skip_idle ? "no rupture before -fracture_max_steps"
-                                                     : "reached -fracture_max_steps";
-      break;
-    }
+    if (next > o_.max_steps)
+      return next == o_.max_steps + 1 && o_.skip_idle ? "no rupture before -fracture_max_steps"
+                                                      : "reached -fracture_max_steps";
     hold_equilibrium();
     try {
       if (next - 1 > tally_.steps) visit_idle(next - 1);
@@ -324,11 +332,9 @@ FractureResult Protocol::run() {
                         std::to_string(stop.step) + " is computed again)");
     }
   }
-  fault_pause(l_.comm, "fracture_end", "after the last load step");
-  // The end is kept: on an equilibrium (a run that ends on a decided field
-  // ran out of load steps).
-  if (!system_.at_equilibrium()) solver_.solve(system_.top_displacement(), false);
+}
 
+FractureResult Protocol::result(const std::string& end, bool resumed) {
   const TensionResponse r = system_.response();
   FractureResult result;
   static_cast<FractureTally&>(result) = tally_;
@@ -354,14 +360,15 @@ FractureResult Protocol::run() {
   result.end_reason = end;
   result.seconds = clock_.elapsed();
   result.resumed = resumed;
-  result.relaxation_report = relaxation_->report();
+  result.plugin_report = rule_->report(tally_);
+  for (auto& value : relaxation_->report()) result.plugin_report.push_back(std::move(value));
   return result;
 }
 
 }  // namespace
 
-double FractureResult::relaxation_count(const std::string& name) const {
-  for (const auto& [key, value] : relaxation_report)
+double FractureResult::plugin_value(const std::string& name) const {
+  for (const auto& [key, value] : plugin_report)
     if (key == name) return value;
   return 0;
 }

@@ -19,7 +19,7 @@ namespace lem {
 
 RelaxationEntry local_relaxation_entry() {
   // One set of options, read with the protocol's, shared by the factory and
-  // the fingerprint.
+  // the fingerprint; the summary fields are the counts of report().
   auto options = std::make_shared<LocalRelaxationOptions>();
   RelaxationEntry e;
   e.name = "local";
@@ -57,6 +57,16 @@ RelaxationEntry local_relaxation_entry() {
       << "\n";
     return s.str();
   };
+  // The counts report() gives (0 in runs of other schemes).
+  e.summary = {{"patch_solves", "", "local scheme: patch solves (0 with `global`)"},
+               {"patch_iterations", "", "local scheme: CG iterations of the patch solves"},
+               {"patch_nodes_mean", "", "local scheme: mean free nodes of a patch"},
+               {"patch_overflows", "", "local scheme: patches too large, solved globally"},
+               {"patch_error_max", "",
+                "local scheme: largest patch force error against the confirming "
+                "global field, of max(f, mean f)"},
+               {"patch_disabled_step", "",
+                "local scheme: step at which patches were given up (0: never)"}};
   return e;
 }
 
@@ -171,29 +181,17 @@ void LocalRelaxation::check_patch_error(std::int64_t step,
   }
 }
 
-RelaxationOutcome LocalRelaxation::relax(std::int64_t step, double top_displacement, double strain,
-                                         double /*stress_before*/) {
-  RelaxationOutcome out;
-  for (;;) {
-    next_cycle(step, out);
-    // The field is a global equilibrium here: its decisions are exact.
-    const std::vector<Rupture> batch = next_batch(top_displacement);
-    if (batch.empty()) break;
-    bool joined = break_batch(batch, step, out.cycles, strain);
-    note_batch(step, batch, out);
-    std::vector<double> patch_tensions;
-    if (joined && counters_.disabled_step == 0)
-      joined = local_phase(step, strain, batch, out, patch_tensions);
-    p_.solver.solve(top_displacement, true);
-    if (!joined) {
-      out.disconnected = true;
-      break;
-    }
-    if (!patch_tensions.empty()) check_patch_error(step, patch_tensions);
-    if (stress_fell()) break;  // the run ends after this step
-  }
-  if (out.broken > 0) p_.recorder.flush_ruptures();
-  return out;
+CycleEnd LocalRelaxation::cycle(std::int64_t step, double top_displacement, double strain,
+                                const std::vector<Rupture>& batch, bool joined,
+                                RelaxationOutcome& out) {
+  // `batch` came from a global equilibrium: its decisions are exact.
+  note_batch(step, batch, out);
+  std::vector<double> patch_tensions;
+  if (joined && counters_.disabled_step == 0)
+    joined = local_phase(step, strain, batch, out, patch_tensions);
+  p_.solver.solve(top_displacement, true);
+  if (joined && !patch_tensions.empty()) check_patch_error(step, patch_tensions);
+  return {joined, false};
 }
 
 std::string LocalRelaxation::saved_state() const {

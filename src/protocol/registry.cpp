@@ -3,6 +3,7 @@
 #include "lem/protocol/local_relaxation.hpp"
 
 #include <algorithm>
+#include <cstring>
 #include <stdexcept>
 
 namespace lem {
@@ -28,6 +29,16 @@ std::vector<RelaxationEntry>& scheme_table() {
   return table;
 }
 
+// A summary field of `entry` that some registered entry already declares
+// (nullptr if none).
+const char* taken_field(const std::vector<SummaryField>& fields) {
+  const std::vector<SummaryField> all = registered_summary_fields();
+  for (const SummaryField& f : fields)
+    for (const SummaryField& g : all)
+      if (std::strcmp(f.name, g.name) == 0) return f.name;
+  return nullptr;
+}
+
 template <class Entry>
 void add(std::vector<Entry>& table, Entry entry, const char* kind) {
   const bool taken =
@@ -35,6 +46,9 @@ void add(std::vector<Entry>& table, Entry entry, const char* kind) {
   if (entry.name.empty() || taken || !entry.make)
     throw std::invalid_argument(std::string(kind) + " '" + entry.name +
                                 "': " + (taken ? "the name is taken" : "no name or no factory"));
+  if (const char* field = taken_field(entry.summary))
+    throw std::invalid_argument(std::string(kind) + " '" + entry.name + "': the summary field '" +
+                                field + "' is declared by another entry");
   table.push_back(std::move(entry));
 }
 
@@ -62,6 +76,22 @@ const BreakRuleEntry& break_rule_named(const std::string& name) {
 }
 const RelaxationEntry& relaxation_named(const std::string& name) {
   return named(scheme_table(), name, "relaxation scheme");
+}
+
+std::string registered_fingerprint(const std::string& break_rule, const std::string& relaxation) {
+  const BreakRuleEntry& rule = break_rule_named(break_rule);
+  const RelaxationEntry& scheme = relaxation_named(relaxation);
+  return (rule.fingerprint ? rule.fingerprint() : std::string()) +
+         (scheme.fingerprint ? scheme.fingerprint() : std::string());
+}
+
+std::vector<SummaryField> registered_summary_fields() {
+  std::vector<SummaryField> fields;
+  for (const BreakRuleEntry& e : rule_table())
+    fields.insert(fields.end(), e.summary.begin(), e.summary.end());
+  for (const RelaxationEntry& e : scheme_table())
+    fields.insert(fields.end(), e.summary.begin(), e.summary.end());
+  return fields;
 }
 
 }  // namespace lem

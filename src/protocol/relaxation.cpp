@@ -206,25 +206,22 @@ void Relaxation::next_cycle(std::int64_t step, const RelaxationOutcome& out) con
   if (out.cycles > 0 && p_.between_cycles) p_.between_cycles(step, out.cycles);
 }
 
-RelaxationOutcome GlobalRelaxation::relax(std::int64_t step, double top_displacement, double strain,
-                                          double /*stress_before*/) {
+RelaxationOutcome Relaxation::relax(std::int64_t step, double top_displacement, double strain,
+                                    double /*stress_before*/) {
   RelaxationOutcome out;
   for (;;) {
     next_cycle(step, out);
-    const std::vector<Rupture> critical = next_batch(top_displacement);
+    const std::vector<Rupture> batch = next_batch(top_displacement);
     // An equilibrium, or a decided field that may end the step (decision_stands).
-    if (critical.empty()) break;
-    const bool joined = break_batch(critical, step, out.cycles, strain);
-    // The run ends after a disconnecting batch: solve it to -ksp_rtol.
-    const SolveReport solved =
-        joined ? solve_for_decision(top_displacement) : p_.solver.solve(top_displacement, true);
-    note_batch(step, critical, out);
-    if (!joined) {
+    if (batch.empty()) break;
+    const bool joined = break_batch(batch, step, out.cycles, strain);
+    const CycleEnd end = cycle(step, top_displacement, strain, batch, joined, out);
+    if (!end.joined) {
       out.disconnected = true;
       break;
     }
     if (stress_fell()) {  // the run ends after this step, on an equilibrium
-      if (solved.stopped_early) p_.solver.solve(top_displacement, true);
+      if (end.stopped_early) p_.solver.solve(top_displacement, true);
       if (stress_fell()) break;
     }
   }
@@ -233,6 +230,16 @@ RelaxationOutcome GlobalRelaxation::relax(std::int64_t step, double top_displace
     p_.recorder.flush_ruptures();
   }
   return out;
+}
+
+CycleEnd GlobalRelaxation::cycle(std::int64_t step, double top_displacement, double /*strain*/,
+                                 const std::vector<Rupture>& batch, bool joined,
+                                 RelaxationOutcome& out) {
+  // The run ends after a disconnecting batch: solve it to -ksp_rtol.
+  const SolveReport solved =
+      joined ? solve_for_decision(top_displacement) : p_.solver.solve(top_displacement, true);
+  note_batch(step, batch, out);
+  return {joined, solved.stopped_early};
 }
 
 }  // namespace lem

@@ -9,6 +9,7 @@
 #include "lem/base/options.hpp"
 #include "lem/base/phase.hpp"
 #include "lem/protocol/checkpoint.hpp"
+#include "lem/protocol/registry.hpp"
 #include "lem/run/result_folder.hpp"
 #include "lem/setup/setup.hpp"
 #include "lem/setup/units.hpp"
@@ -243,7 +244,8 @@ Summary fracture_summary(MPI_Comm comm, const SampleOptions& sample, const Fract
   const FractureResult& r = c.result;
   const double e_eff = r.young_modulus * c.stress_unit, s_eff = r.peak_stress * c.stress_unit;
   Summary s;
-  Summary::Described d(s, fracture_summary_fields());
+  const std::vector<SummaryField> fields = fracture_summary_fields();
+  Summary::Described d(s, fields);
   d.put("sample_file", sample.sample_file);
   const auto count = [&](const char* name, std::int64_t n) {
     d.put(name, static_cast<long long>(n));
@@ -284,17 +286,9 @@ Summary fracture_summary(MPI_Comm comm, const SampleOptions& sample, const Fract
   count("pc_builds", r.preconditioner_builds);
   count("fallback_solves", r.fallback_solves);
   d.put("relaxation", o.relaxation);
-  // The local scheme's counts (0 for the others: every summary has the
-  // same entries, so that a study's table can hold runs of any scheme).
-  const auto scheme_count = [&](const char* name) {
-    count(name, std::llround(r.relaxation_count(name)));
-  };
-  scheme_count("patch_solves");
-  scheme_count("patch_iterations");
-  d.put("patch_nodes_mean", r.relaxation_count("patch_nodes_mean"));
-  scheme_count("patch_overflows");
-  d.put("patch_error_max", r.relaxation_count("patch_error_max"));
-  scheme_count("patch_disabled_step");
+  // The fields of the break rules and relaxation schemes (0 for those not
+  // chosen: every summary has the same entries).
+  for (const SummaryField& f : registered_summary_fields()) d.put(f.name, r.plugin_value(f.name));
   // A plain run solves at every step plus every relaxation cycle.
   count("solves_stepping_estimate", r.steps + r.relaxation_cycles);
   d.put("work", r.work);
@@ -383,6 +377,7 @@ void run_fracture_job(MPI_Comm comm, const SampleOptions& sample, const Fracture
                       const FractureRunOptions& run, const SolverOptions& solver,
                       const Provenance& provenance) {
   const FractureOptions& options = protocol;
+  fracture_summary_fields();  // a plug-in's field of a taken name: refused before any work
   const bool from_file = !sample.sample_file.empty();
   const bool calibrating =
       from_file && run.calibrate && run.sigma_unit == 0 && run.modulus_unit == 0;

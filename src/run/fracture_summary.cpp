@@ -1,8 +1,19 @@
 #include "lem/run/fracture_summary.hpp"
 
+#include "lem/protocol/registry.hpp"
+
+#include <algorithm>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+
 namespace lem {
 
-const std::vector<SummaryField>& fracture_summary_fields() {
+namespace {
+
+// The run's own entries; those of the break rules and relaxation schemes
+// (registry.hpp) follow "relaxation".
+const std::vector<SummaryField>& run_fields() {
   static const std::vector<SummaryField> fields = {
       {"sample_file", "", "the sample file (empty for a generated lattice)"},
       {"nodes", "", "nodes of the lattice"},
@@ -49,14 +60,6 @@ const std::vector<SummaryField>& fracture_summary_fields() {
       {"pc_builds", "", "preconditioner builds"},
       {"fallback_solves", "", "solves finished by the fallback solver (Jacobi-CG)"},
       {"relaxation", "", "`-fracture_relaxation`"},
-      {"patch_solves", "", "local scheme: patch solves (0 with `global`)"},
-      {"patch_iterations", "", "local scheme: CG iterations of the patch solves"},
-      {"patch_nodes_mean", "", "local scheme: mean free nodes of a patch"},
-      {"patch_overflows", "", "local scheme: patches too large, solved globally"},
-      {"patch_error_max", "",
-       "local scheme: largest patch force error against the confirming "
-       "global field, of max(f, mean f)"},
-      {"patch_disabled_step", "", "local scheme: step at which patches were given up (0: never)"},
       {"solves_stepping_estimate", "",
        "steps + relaxation cycles: the solves of a run without "
        "idle skipping"},
@@ -81,6 +84,24 @@ const std::vector<SummaryField>& fracture_summary_fields() {
       {"peak_memory_mean_mb", "MB", "the mean over the ranks of their peak resident memory"},
       {"mpi_ranks", "", "MPI ranks"},
   };
+  return fields;
+}
+
+}  // namespace
+
+std::vector<SummaryField> fracture_summary_fields() {
+  std::vector<SummaryField> fields = run_fields();
+  const std::vector<SummaryField> registered = registered_summary_fields();
+  for (const SummaryField& f : registered)
+    if (std::any_of(fields.begin(), fields.end(),
+                    [&](const SummaryField& g) { return std::strcmp(f.name, g.name) == 0; }))
+      throw std::invalid_argument(std::string("the summary field '") + f.name +
+                                  "' of a break rule or relaxation scheme is an entry of "
+                                  "lem_fracture's summary");
+  const auto relaxation = std::find_if(fields.begin(), fields.end(), [](const SummaryField& f) {
+    return std::strcmp(f.name, "relaxation") == 0;
+  });
+  fields.insert(relaxation + 1, registered.begin(), registered.end());
   return fields;
 }
 

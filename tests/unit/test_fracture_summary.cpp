@@ -5,7 +5,8 @@
 // each program's summary holds exactly its table's entries, and each table
 // is the one of docs/reference/outputs.md (LEM_WRITE_DOCS=1 rewrites the
 // page's tables from the code).  lem_fracture's table is
-// src/run/fracture_summary.cpp.
+// src/run/fracture_summary.cpp, with the fields of the registered break
+// rules and relaxation schemes after "relaxation".
 #include "lem/base/summary.hpp"
 #include "lem/report/sample_summary.hpp"
 #include "lem/report/tension_summary.hpp"
@@ -14,8 +15,11 @@
 #include "lem/run/programs.hpp"
 #include "lem/run/stiffness_study.hpp"
 
+#include "lem/protocol/registry.hpp"
+
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -23,6 +27,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 using namespace lem;
 
@@ -72,9 +77,32 @@ TEST(FractureSummary, FieldsAreUniqueAndDescribed) {
   }
 }
 
+TEST(FractureSummary, SchemesBringTheirFields) {
+  // The local scheme's counts come from its registry entry, after
+  // "relaxation", in the entry's order.
+  const std::vector<SummaryField> fields = fracture_summary_fields();
+  std::vector<std::string> names;
+  for (const SummaryField& f : fields) names.emplace_back(f.name);
+  const auto relaxation = std::find(names.begin(), names.end(), "relaxation");
+  ASSERT_NE(relaxation, names.end());
+  const std::vector<SummaryField>& local = relaxation_named("local").summary;
+  ASSERT_EQ(local.size(), 6u);
+  for (std::size_t k = 0; k < local.size(); ++k)
+    EXPECT_EQ(relaxation[static_cast<std::ptrdiff_t>(k) + 1], local[k].name);
+}
+
+TEST(FractureSummary, AFieldOfAnotherEntryIsRefused) {
+  BreakRuleEntry rule{"counting", "a rule that counts", make_all_critical_rule};
+  rule.summary = {{"patch_solves", "", "the local scheme's name"}};
+  const std::size_t rules = break_rules().size();
+  EXPECT_THROW(register_break_rule(rule), std::invalid_argument);
+  EXPECT_EQ(break_rules().size(), rules);
+}
+
 TEST(FractureSummary, EntriesFollowTheTable) {
   Summary s;
-  Summary::Described d(s, fracture_summary_fields());
+  const std::vector<SummaryField> fields = fracture_summary_fields();
+  Summary::Described d(s, fields);
   d.put("sample_file", std::string("x.h5"));
   EXPECT_THROW(d.put("active_bonds", 1LL), std::logic_error);  // "nodes" comes first
   d.put("nodes", 1LL);
@@ -84,8 +112,9 @@ TEST(FractureSummary, EntriesFollowTheTable) {
 
 TEST(FractureSummary, UnitsGoToTheCsvHeader) {
   Summary s;
-  Summary::Described d(s, fracture_summary_fields());
-  for (const SummaryField& f : fracture_summary_fields()) d.put(f.name, 0.0);
+  const std::vector<SummaryField> fields = fracture_summary_fields();
+  Summary::Described d(s, fields);
+  for (const SummaryField& f : fields) d.put(f.name, 0.0);
   d.done();
   EXPECT_NE(s.csv().find(",sigma_unit[stress],E_unit[stress],"), std::string::npos);
   EXPECT_NE(s.csv().find(",seconds[s],peak_memory_mb[MB],"), std::string::npos);

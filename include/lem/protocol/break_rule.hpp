@@ -14,9 +14,12 @@
 
 #include "lem/system/distributed_lattice.hpp"
 #include "lem/protocol/options.hpp"
+#include "lem/protocol/state.hpp"
 
 #include <cstdint>
 #include <memory>
+#include <string>
+#include <utility>
 #include <vector>
 
 namespace lem {
@@ -58,6 +61,13 @@ class BreakRule {
   /// A rule that ranks the critical bonds by their forces needs converged
   /// forces and answers false.
   virtual bool set_decides_batch() const = 0;
+  /// The values of the summary fields its registry entry declares, by name,
+  /// from the tally of the finished run (a rule keeps no state: its batch
+  /// is a function of the critical set, so a resumed run reports the same).
+  virtual std::vector<std::pair<std::string, double>> report(const FractureTally& run) const {
+    (void)run;
+    return {};
+  }
 };
 
 /// The paper's rule: every critical bond breaks.

@@ -10,7 +10,8 @@
 //                (bond_length_mean, stiffness_total, strength_total, compared
 //                to 1e-10: another set-up sums them in another order);
 //   the protocol the options as the protocol uses them (increment, rules,
-//                the relaxation scheme's own lines);
+//                and the lines the entries of the break rule and the
+//                relaxation scheme give: registry.hpp);
 //   the options  every option read ("-name=value"), but those of
 //                OptionKind::outside and, by scope: a checkpoint leaves out
 //                where the run ends (it may be resumed to go further); a

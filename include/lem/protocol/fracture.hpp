@@ -51,10 +51,11 @@ struct FractureResult : FractureTally {
   double seconds = 0;
   bool resumed = false;
   std::vector<RunWarning> warnings;  // degradations seen (docs/model/fracture.md, "Warnings")
-  /// The relaxation scheme's own counts (Relaxation::report), by name.
-  std::vector<std::pair<std::string, double>> relaxation_report;
-  /// The value of `name` in relaxation_report, 0 when the scheme has none.
-  double relaxation_count(const std::string& name) const;
+  /// The values of the summary fields of the break rule and the relaxation
+  /// scheme (BreakRule::report, Relaxation::report), by name.
+  std::vector<std::pair<std::string, double>> plugin_report;
+  /// The value of `name` in plugin_report, 0 when neither has one.
+  double plugin_value(const std::string& name) const;
   /// Bonds broke and the stress fell after its peak: the peak is the
   /// lattice's strength, not the last load reached.
   bool past_peak() const { return broken_total() > 0 && final_stress < peak_stress; }

@@ -48,13 +48,16 @@ class LocalRelaxation : public Relaxation {
  public:
   /// Collective.
   LocalRelaxation(const RelaxationParts& parts, const LocalRelaxationOptions& options);
-  RelaxationOutcome relax(std::int64_t step, double top_displacement, double strain,
-                          double stress_before) override;
   std::string saved_state() const override;
   void restore_state(const std::string& bytes) override;
   /// patch_solves, patch_iterations, patch_nodes_mean, patch_overflows,
   /// patch_error_max, patch_disabled_step.
   std::vector<std::pair<std::string, double>> report() const override;
+
+ protected:
+  /// Patches first (local_phase), then a global solve.
+  CycleEnd cycle(std::int64_t step, double top_displacement, double strain,
+                 const std::vector<Rupture>& batch, bool joined, RelaxationOutcome& out) override;
 
  private:
   /// What the scheme counts (its checkpoint state): patch solves, their CG

@@ -1,6 +1,7 @@
 // Relaxation at a fixed load (paper appendix A): break the critical bonds,
 // pin the pieces they cut loose, solve, and repeat until no bond is
-// critical.  `Relaxation` is the room for other schemes (local patch solves
+// critical.  `Relaxation` holds that loop, once, and the room for other
+// schemes: what a cycle does after its batch broke (local patch solves
 // before a global one); `GlobalRelaxation` is the paper's cycle, where
 // every solve is a global one, and the reference the others are tested
 // against.
@@ -29,6 +30,12 @@ struct RelaxationOutcome {
   int cycles = 0;             // solves after ruptures
   std::int64_t broken = 0;    // bonds broken at this load
   bool disconnected = false;  // no piece joins the bottom to the top face any more
+};
+
+/// How a relaxation cycle (Relaxation::cycle) ended.
+struct CycleEnd {
+  bool joined = true;          // some piece still joins the faces
+  bool stopped_early = false;  // its last solve ended on a decided field
 };
 
 /// The parts of the protocol a relaxation works with.
@@ -67,9 +74,12 @@ class Relaxation {
   /// (options.stop_within_step) the stress falls below the stop level.
   /// Ends on a global equilibrium, or on a decided field that decides that
   /// nothing more breaks (options.decided_closing) unless needs_equilibrium
-  /// says it is kept.  Collective.
+  /// says it is kept.  The loop of every scheme: between cycles next_cycle,
+  /// then the batch of the field (next_batch), broken (break_batch), and the
+  /// scheme's `cycle`; a run whose stress fell ends on an equilibrium.  A
+  /// scheme changes `cycle`; it may wrap this (and call it).  Collective.
   virtual RelaxationOutcome relax(std::int64_t step, double top_displacement, double strain,
-                                  double stress_before) = 0;
+                                  double stress_before);
   /// What the scheme must carry over a checkpoint besides the protocol's
   /// state (its counters), as bytes: taken at every held equilibrium,
   /// given back on resume.  A scheme with nothing to carry keeps the
@@ -77,11 +87,19 @@ class Relaxation {
   virtual std::string saved_state() const { return {}; }
   /// Throws std::runtime_error when `bytes` are not a state of this scheme.
   virtual void restore_state(const std::string& bytes);
-  /// Named numbers of the scheme for the summary (the local scheme's patch_*
-  /// entries); empty by default.
+  /// The values of the summary fields its registry entry declares, by name
+  /// (the local scheme's patch_* entries); empty by default.
   virtual std::vector<std::pair<std::string, double>> report() const { return {}; }
 
  protected:
+  /// One relaxation cycle after `batch` broke (`joined`: some piece still
+  /// joins the faces): the scheme's solves, ending on a global field that
+  /// the next batch is read from (an equilibrium, or a decided field of
+  /// solve_for_decision), and note_batch for `batch` and every batch it
+  /// breaks itself.  Collective.
+  virtual CycleEnd cycle(std::int64_t step, double top_displacement, double strain,
+                         const std::vector<Rupture>& batch, bool joined,
+                         RelaxationOutcome& out) = 0;
   /// Break `batch` as one numbered batch (generation `cycle` of this load
   /// step), pin the pieces it cut loose.  Returns whether some piece still
   /// joins the faces.  Collective.
@@ -132,8 +150,10 @@ class Relaxation {
 class GlobalRelaxation : public Relaxation {
  public:
   using Relaxation::Relaxation;
-  RelaxationOutcome relax(std::int64_t step, double top_displacement, double strain,
-                          double stress_before) override;
+
+ protected:
+  CycleEnd cycle(std::int64_t step, double top_displacement, double strain,
+                 const std::vector<Rupture>& batch, bool joined, RelaxationOutcome& out) override;
 };
 
 }  // namespace lem

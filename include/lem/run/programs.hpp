@@ -27,7 +27,7 @@ int bench_program(int argc, char** argv, const char* help);
 /// A program's summary table.
 struct ProgramSummary {
   const char* program;
-  const std::vector<SummaryField>& fields;
+  std::vector<SummaryField> fields;  // a copy: lem_fracture's table is built per call
 };
 /// Every program that writes a summary, in the order of the outputs page.
 std::vector<ProgramSummary> program_summaries();
