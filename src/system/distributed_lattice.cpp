@@ -126,6 +126,72 @@ Piece make_piece(int r, const Lattice& lattice, const TensionConstraints& tc,
   return piece;
 }
 
+
+// The numbers every rank needs of the whole lattice: a (the lattice's own, or
+// that of the elements it was cut from), the node and active-bond counts and
+// the box.
+void lattice_header(const Lattice& lattice, const TensionConstraints& constraints,
+                    double header[9]) {
+  double length_sum = 0;
+  for (std::size_t b = 0; b < lattice.bond_count(); ++b) length_sum += lattice.bond_length(b);
+  std::int64_t active = 0;
+  for (char a : constraints.bond_active) active += a;
+  const double bonds = static_cast<double>(std::max<std::size_t>(1, lattice.bond_count()));
+  header[0] = lattice.element_length > 0 ? lattice.element_length : length_sum / bonds;
+  header[1] = static_cast<double>(lattice.node_count());
+  header[2] = static_cast<double>(active);
+  for (int a = 0; a < 3; ++a) {
+    header[3 + a] = lattice.box.lo[a];
+    header[6 + a] = lattice.box.hi[a];
+  }
+}
+
+// The active bonds of each rank: those with an end it owns.
+std::vector<std::vector<std::int32_t>> bonds_by_rank(const Lattice& lattice,
+                                                     const TensionConstraints& constraints,
+                                                     const Partition& partition, int size) {
+  std::vector<std::vector<std::int32_t>> rank_bonds(size);
+  for (std::size_t b = 0; b < lattice.bond_count(); ++b) {
+    if (!constraints.bond_active[b]) continue;
+    const int oi = partition.owner[lattice.bonds[b].i];
+    const int oj = partition.owner[lattice.bonds[b].j];
+    rank_bonds[oi].push_back(static_cast<std::int32_t>(b));
+    if (oj != oi) rank_bonds[oj].push_back(static_cast<std::int32_t>(b));
+  }
+  return rank_bonds;
+}
+
+// This rank's part of the lattice from its piece and the shared header.
+void take_piece(DistributedLattice& dl, const double header[9], Piece&& piece) {
+  int rank = 0;
+  MPI_Comm_rank(dl.comm, &rank);
+  dl.mean_bond_length = header[0];
+  dl.global_nodes = static_cast<std::int64_t>(header[1]);
+  dl.global_bonds = static_cast<std::int64_t>(header[2]);
+  for (int a = 0; a < 3; ++a) {
+    dl.box.lo[a] = header[3 + a];
+    dl.box.hi[a] = header[6 + a];
+  }
+  dl.owned = static_cast<int>(piece.owned.at(0));
+  // Blocks follow rank order, so the block start is the sum over lower ranks.
+  std::int64_t owned64 = dl.owned, begin = 0;
+  MPI_Exscan(&owned64, &begin, 1, MPI_INT64_T, MPI_SUM, dl.comm);
+  dl.node_begin = rank == 0 ? 0 : begin;
+  dl.global_index = std::move(piece.global_index);
+  dl.node_id = std::move(piece.node_id);
+  dl.coords = std::move(piece.coords);
+  dl.dof_flags = std::move(piece.dof_flags);
+  dl.faces = std::move(piece.faces);
+  dl.node_volume = std::move(piece.node_volume);
+  dl.node_particle = std::move(piece.node_particle);
+  dl.bond_ends = std::move(piece.bond_ends);
+  dl.bond_id = std::move(piece.bond_id);
+  dl.bond_stiffness = std::move(piece.bond_stiffness);
+  dl.bond_strength = std::move(piece.bond_strength);
+  dl.bond_tag = std::move(piece.bond_tag);
+  dl.bond_reported = std::move(piece.bond_reported);
+}
+
 }  // namespace
 
 DistributedLattice distribute_lattice(MPI_Comm comm, const Lattice& lattice,
@@ -149,30 +215,12 @@ DistributedLattice distribute_lattice(MPI_Comm comm, const Lattice& lattice,
     try {
       if (partition.parts != size)
         throw std::logic_error("distribute_lattice: partition has a different number of parts");
-      double length_sum = 0;
-      for (std::size_t b = 0; b < lattice.bond_count(); ++b) length_sum += lattice.bond_length(b);
-      std::int64_t active = 0;
-      for (char a : constraints.bond_active) active += a;
-      // a: the lattice's own, or that of the elements it was cut from.
-      const double bonds = static_cast<double>(std::max<std::size_t>(1, lattice.bond_count()));
-      header[0] = lattice.element_length > 0 ? lattice.element_length : length_sum / bonds;
-      header[1] = static_cast<double>(lattice.node_count());
-      header[2] = static_cast<double>(active);
-      for (int a = 0; a < 3; ++a) {
-        header[3 + a] = lattice.box.lo[a];
-        header[6 + a] = lattice.box.hi[a];
-      }
+      lattice_header(lattice, constraints, header);
       std::vector<std::int64_t> old_of_new(lattice.node_count());
       for (std::size_t n = 0; n < lattice.node_count(); ++n)
         old_of_new[partition.new_index[n]] = static_cast<std::int64_t>(n);
-      std::vector<std::vector<std::int32_t>> rank_bonds(size);
-      for (std::size_t b = 0; b < lattice.bond_count(); ++b) {
-        if (!constraints.bond_active[b]) continue;
-        const int oi = partition.owner[lattice.bonds[b].i];
-        const int oj = partition.owner[lattice.bonds[b].j];
-        rank_bonds[oi].push_back(static_cast<std::int32_t>(b));
-        if (oj != oi) rank_bonds[oj].push_back(static_cast<std::int32_t>(b));
-      }
+      std::vector<std::vector<std::int32_t>> rank_bonds =
+          bonds_by_rank(lattice, constraints, partition, size);
       for (; next >= 0; --next) {
         auto bytes =
             make_piece(next, lattice, constraints, partition, faces, old_of_new, rank_bonds[next])
@@ -203,31 +251,7 @@ DistributedLattice distribute_lattice(MPI_Comm comm, const Lattice& lattice,
   MPI_Bcast(header, 9, MPI_DOUBLE, 0, comm);
   Piece piece;
   piece.unpack(mine);
-  dl.mean_bond_length = header[0];
-  dl.global_nodes = static_cast<std::int64_t>(header[1]);
-  dl.global_bonds = static_cast<std::int64_t>(header[2]);
-  for (int a = 0; a < 3; ++a) {
-    dl.box.lo[a] = header[3 + a];
-    dl.box.hi[a] = header[6 + a];
-  }
-  dl.owned = static_cast<int>(piece.owned.at(0));
-  // Blocks follow rank order, so the block start is the sum over lower ranks.
-  std::int64_t owned64 = dl.owned, begin = 0;
-  MPI_Exscan(&owned64, &begin, 1, MPI_INT64_T, MPI_SUM, comm);
-  dl.node_begin = rank == 0 ? 0 : begin;
-  dl.global_index = std::move(piece.global_index);
-  dl.node_id = std::move(piece.node_id);
-  dl.coords = std::move(piece.coords);
-  dl.dof_flags = std::move(piece.dof_flags);
-  dl.faces = std::move(piece.faces);
-  dl.node_volume = std::move(piece.node_volume);
-  dl.node_particle = std::move(piece.node_particle);
-  dl.bond_ends = std::move(piece.bond_ends);
-  dl.bond_id = std::move(piece.bond_id);
-  dl.bond_stiffness = std::move(piece.bond_stiffness);
-  dl.bond_strength = std::move(piece.bond_strength);
-  dl.bond_tag = std::move(piece.bond_tag);
-  dl.bond_reported = std::move(piece.bond_reported);
+  take_piece(dl, header, std::move(piece));
   return dl;
 }
 

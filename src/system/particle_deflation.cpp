@@ -30,6 +30,36 @@ Modes rigid_modes(const double x[3], int a) {
   return m;
 }
 
+// Combinations of a particle's six modes orthonormal over its free degrees
+// of freedom, from their Gram matrix G (Gram-Schmidt in the G metric,
+// twice); a mode that adds less than 1e-6 of its own norm (a particle cut by
+// a face, a handful of nodes in a line) is dropped, so that W^T K W stays
+// regular.
+std::vector<Modes> orthonormal_modes(const double* G) {
+  auto dot = [G](const Modes& u, const Modes& v) {
+    double s = 0;
+    for (int i = 0; i < 6; ++i)
+      for (int j = 0; j < 6; ++j) s += u[i] * G[6 * i + j] * v[j];
+    return s;
+  };
+  std::vector<Modes> basis;
+  for (int j = 0; j < 6; ++j) {
+    if (G[7 * j] <= 0) continue;
+    Modes v{};
+    v[j] = 1.0;
+    for (int pass = 0; pass < 2; ++pass)
+      for (const Modes& b : basis) {
+        const double c = dot(b, v);
+        for (int i = 0; i < 6; ++i) v[i] -= c * b[i];
+      }
+    const double norm2 = dot(v, v);
+    if (norm2 < 1e-6 * G[7 * j]) continue;
+    for (double& c : v) c /= std::sqrt(norm2);
+    basis.push_back(v);
+  }
+  return basis;
+}
+
 }  // namespace
 
 PC wrap_preconditioner(KSP ksp, void* context, const char* name, PetscErrorCode (*setup)(PC),
@@ -145,36 +175,12 @@ void ParticleDeflation::build_space() {
   MPI_Allreduce(MPI_IN_PLACE, gram.data(), static_cast<int>(gram.size()), MPI_DOUBLE, MPI_SUM,
                 l.comm);
 
-  // Per particle, combinations of its modes orthonormal over its free
-  // degrees of freedom (Gram-Schmidt in the Gram metric, twice); a mode
-  // that adds less than 1e-6 of its own norm (a particle cut by a face, a
-  // handful of nodes in a line) is dropped, so that W^T K W stays regular.
   std::vector<std::vector<Modes>> basis(particles);
+  for (std::int32_t p = 0; p < particles; ++p)
+    basis[p] = orthonormal_modes(&gram[36 * static_cast<std::size_t>(p)]);
   std::vector<PetscInt> first(particles + 1, 0);
-  for (std::int32_t p = 0; p < particles; ++p) {
-    const double* G = &gram[36 * static_cast<std::size_t>(p)];
-    auto dot = [G](const Modes& u, const Modes& v) {
-      double s = 0;
-      for (int i = 0; i < 6; ++i)
-        for (int j = 0; j < 6; ++j) s += u[i] * G[6 * i + j] * v[j];
-      return s;
-    };
-    for (int j = 0; j < 6; ++j) {
-      if (G[7 * j] <= 0) continue;
-      Modes v{};
-      v[j] = 1.0;
-      for (int pass = 0; pass < 2; ++pass)
-        for (const Modes& b : basis[p]) {
-          const double c = dot(b, v);
-          for (int i = 0; i < 6; ++i) v[i] -= c * b[i];
-        }
-      const double norm2 = dot(v, v);
-      if (norm2 < 1e-6 * G[7 * j]) continue;
-      for (double& c : v) c /= std::sqrt(norm2);
-      basis[p].push_back(v);
-    }
+  for (std::int32_t p = 0; p < particles; ++p)
     first[p + 1] = first[p] + static_cast<PetscInt>(basis[p].size());
-  }
   const PetscInt coarse_size = first[particles];
   if (!announced_) {
     const auto held = std::count_if(basis.begin(), basis.end(),

@@ -37,6 +37,58 @@ Incidence incidence(const Lattice& lattice) {
   return inc;
 }
 
+// The nodes joined to `seed` by active bonds, marked `label` in `piece`.
+std::vector<std::size_t> collect_piece(const Lattice& lattice, const Incidence& inc,
+                                       const TensionConstraints& tc, std::size_t seed,
+                                       std::int32_t label, std::vector<std::int32_t>& piece) {
+  std::vector<std::size_t> members{seed};
+  piece[seed] = label;
+  for (std::size_t q = 0; q < members.size(); ++q) {
+    const std::size_t n = members[q];
+    for (auto k = inc.start[n]; k < inc.start[n + 1]; ++k) {
+      const std::int32_t b = inc.bonds[k];
+      if (!tc.bond_active[b]) continue;
+      const auto m = static_cast<std::size_t>(static_cast<std::size_t>(lattice.bonds[b].i) == n
+                                                  ? lattice.bonds[b].j
+                                                  : lattice.bonds[b].i);
+      if (piece[m] < 0) {
+        piece[m] = label;
+        members.push_back(m);
+      }
+    }
+  }
+  return members;
+}
+
+// Anchor a held piece against x/y translation and z rotation on one face:
+// its node A nearest the face's centroid fixed in x and y, and the node
+// farthest from A fixed across the line A-far (the component with the
+// larger lever arm).
+void anchor(const Lattice& lattice, const std::vector<std::size_t>& face, TensionConstraints& tc) {
+  double cx = 0, cy = 0;
+  for (auto n : face) {
+    cx += lattice.nodes[n][0];
+    cy += lattice.nodes[n][1];
+  }
+  cx /= static_cast<double>(face.size());
+  cy /= static_cast<double>(face.size());
+  auto dist2 = [&](std::size_t n, double x, double y) {
+    const double dx = lattice.nodes[n][0] - x, dy = lattice.nodes[n][1] - y;
+    return dx * dx + dy * dy;
+  };
+  const std::size_t a = *std::min_element(face.begin(), face.end(), [&](auto p, auto q) {
+    return dist2(p, cx, cy) < dist2(q, cx, cy);
+  });
+  const double ax = lattice.nodes[a][0], ay = lattice.nodes[a][1];
+  const std::size_t far = *std::max_element(face.begin(), face.end(), [&](auto p, auto q) {
+    return dist2(p, ax, ay) < dist2(q, ax, ay);
+  });
+  tc.dof_flags[a] |= kFixX | kFixY;
+  const double dx = std::fabs(lattice.nodes[far][0] - ax),
+               dy = std::fabs(lattice.nodes[far][1] - ay);
+  tc.dof_flags[far] |= (dx >= dy) ? kFixY : kFixX;
+}
+
 }  // namespace
 
 TensionConstraints make_tension_constraints(const Lattice& lattice,
@@ -97,20 +149,7 @@ TensionConstraints make_tension_constraints(const Lattice& lattice,
   std::int32_t pieces = 0;
   for (std::size_t seed = 0; seed < nodes; ++seed) {
     if (pinned[seed] || piece[seed] >= 0) continue;
-    std::vector<std::size_t> members{seed};
-    piece[seed] = pieces;
-    for (std::size_t q = 0; q < members.size(); ++q) {
-      const std::size_t n = members[q];
-      for (auto k = inc.start[n]; k < inc.start[n + 1]; ++k) {
-        const std::int32_t b = inc.bonds[k];
-        if (!tc.bond_active[b]) continue;
-        const std::size_t m = other_end(b, n);
-        if (piece[m] < 0) {
-          piece[m] = pieces;
-          members.push_back(m);
-        }
-      }
-    }
+    const std::vector<std::size_t> members = collect_piece(lattice, inc, tc, seed, pieces, piece);
     ++pieces;
     std::vector<std::size_t> bottom, top;
     for (auto n : members) {
@@ -129,31 +168,7 @@ TensionConstraints make_tension_constraints(const Lattice& lattice,
       continue;
     }
     if (!bottom.empty() && !top.empty()) ++tc.loaded_pieces;
-    const auto& face = bottom.empty() ? top : bottom;
-    double cx = 0, cy = 0;
-    for (auto n : face) {
-      cx += lattice.nodes[n][0];
-      cy += lattice.nodes[n][1];
-    }
-    cx /= static_cast<double>(face.size());
-    cy /= static_cast<double>(face.size());
-    auto dist2 = [&](std::size_t n, double x, double y) {
-      const double dx = lattice.nodes[n][0] - x, dy = lattice.nodes[n][1] - y;
-      return dx * dx + dy * dy;
-    };
-    const std::size_t a = *std::min_element(face.begin(), face.end(), [&](auto p, auto q) {
-      return dist2(p, cx, cy) < dist2(q, cx, cy);
-    });
-    const double ax = lattice.nodes[a][0], ay = lattice.nodes[a][1];
-    const std::size_t far = *std::max_element(face.begin(), face.end(), [&](auto p, auto q) {
-      return dist2(p, ax, ay) < dist2(q, ax, ay);
-    });
-    tc.dof_flags[a] |= kFixX | kFixY;
-    // Fix the displacement of the far node across the line A-far: the
-    // component with the larger lever arm.
-    const double dx = std::fabs(lattice.nodes[far][0] - ax),
-                 dy = std::fabs(lattice.nodes[far][1] - ay);
-    tc.dof_flags[far] |= (dx >= dy) ? kFixY : kFixX;
+    anchor(lattice, bottom.empty() ? top : bottom, tc);
   }
   for (std::size_t n = 0; n < nodes; ++n) {
     if (pinned[n]) {
