@@ -62,71 +62,21 @@ std::vector<Modes> orthonormal_modes(const double* G) {
 
 }  // namespace
 
-PC wrap_preconditioner(KSP ksp, void* context, const char* name, PetscErrorCode (*setup)(PC),
-                       PetscErrorCode (*apply)(PC, Vec, Vec)) {
-  PC inner = nullptr;
-  LEM_PETSC(KSPGetPC(ksp, &inner));
-  Mat A = nullptr, P = nullptr;  // the operators live in the PC: carried over
-  LEM_PETSC(KSPGetOperators(ksp, &A, &P));
-  LEM_PETSC(PetscObjectReference(reinterpret_cast<PetscObject>(A)));
-  LEM_PETSC(PetscObjectReference(reinterpret_cast<PetscObject>(P)));
-  LEM_PETSC(PetscObjectReference(reinterpret_cast<PetscObject>(inner)));
-  PC shell = nullptr;
-  LEM_PETSC(PCCreate(PetscObjectComm(reinterpret_cast<PetscObject>(ksp)), &shell));
-  LEM_PETSC(PCSetType(shell, PCSHELL));
-  LEM_PETSC(PCShellSetName(shell, name));
-  LEM_PETSC(PCShellSetContext(shell, context));
-  LEM_PETSC(PCShellSetSetUp(shell, setup));
-  LEM_PETSC(PCShellSetApply(shell, apply));
-  LEM_PETSC(KSPSetPC(ksp, shell));  // the KSP takes its own reference
-  LEM_PETSC(PCDestroy(&shell));
-  LEM_PETSC(KSPSetOperators(ksp, A, P));
-  LEM_PETSC(MatDestroy(&A));
-  LEM_PETSC(MatDestroy(&P));
-  return inner;
-}
-
-PetscErrorCode set_up_inner_preconditioner(PC shell, PC inner) {
-  PetscFunctionBeginUser;
-  Mat A = nullptr, P = nullptr;
-  PetscCall(PCGetOperators(shell, &A, &P));
-  PetscCall(PCSetReusePreconditioner(inner, PETSC_FALSE));
-  PetscCall(PCSetOperators(inner, A, P));
-  PetscCall(PCSetUp(inner));
-  PetscCall(apply_multigrid_level_defaults(inner));
-  // PCApply sets a PC up again whenever its matrix changed; K changes in
-  // place after every batch of ruptures, and the multigrid is rebuilt only
-  // when the outer KSP decides (reused between load steps).
-  PetscCall(PCSetReusePreconditioner(inner, PETSC_TRUE));
-  PetscFunctionReturn(0);
-}
-
 ParticleDeflation::ParticleDeflation(const DistributedLattice& lattice, Mat K, KSP ksp)
-    : lattice_(lattice), K_(K) {
+    : WrappedPreconditioner(ksp, "per-particle rigid-body deflation", shell_apply),
+      lattice_(lattice),
+      K_(K) {
   int has = lattice_.node_particle.empty() ? 0 : 1, any = 0;
   MPI_Allreduce(&has, &any, 1, MPI_INT, MPI_MAX, lattice_.comm);
   if (!any)
     throw InputError("-solver_particle_deflation needs the particle of every node: use a "
                      "cemented sample (-sample_file or -sample_*), not a plain lattice");
-  inner_ =
-      wrap_preconditioner(ksp, this, "per-particle rigid-body deflation", shell_setup, shell_apply);
   LEM_PETSC(KSPSetOperators(ksp, K_, K_));
 
-  // The coarse problem is small: factored whole on every rank.
-  LEM_PETSC(KSPCreate(lattice_.comm, coarse_.replace()));
-  LEM_PETSC(KSPSetType(coarse_, KSPPREONLY));
-  // Its own prefix, so that the main solver's -ksp_* options (a monitor,
-  // -ksp_converged_reason) do not reach it.
-  LEM_PETSC(KSPSetOptionsPrefix(coarse_, "deflation_coarse_"));
-  PC coarse_pc = nullptr;
-  LEM_PETSC(KSPGetPC(coarse_, &coarse_pc));
-  LEM_PETSC(PCSetType(coarse_pc, PCREDUNDANT));
-  LEM_PETSC(KSPSetFromOptions(coarse_));
+  create_coarse_solver(lattice_.comm, coarse_);
   LEM_PETSC(MatCreateVecs(K_, work_.replace(), nullptr));
   LEM_PETSC(VecDuplicate(work_, work2_.replace()));
 }
-
-ParticleDeflation::~ParticleDeflation() { PCDestroy(&inner_); }
 
 // W from the particles' nodes; columns numbered particle by particle, so the
 // space does not depend on the number of ranks.
@@ -248,20 +198,12 @@ void ParticleDeflation::prepare(Vec b, Vec u) {
   LEM_PETSC(VecAXPY(u, 1.0, work2_));
 }
 
-PetscErrorCode ParticleDeflation::shell_setup(PC pc) {
-  PetscFunctionBeginUser;
-  ParticleDeflation* d = nullptr;
-  PetscCall(PCShellGetContext(pc, &d));
-  PetscCall(set_up_inner_preconditioner(pc, d->inner_));
-  PetscFunctionReturn(0);
-}
-
 // z = (I - Q K) M^-1 r + Q r, written as y = M^-1 r, z = y + Q (r - K y):
 // one coarse solve per iteration.
 PetscErrorCode ParticleDeflation::shell_apply(PC pc, Vec r, Vec z) {
   PetscFunctionBeginUser;
   ParticleDeflation* d = nullptr;
-  PetscCall(PCShellGetContext(pc, &d));
+  PetscCall(context(pc, &d));
   try {
     PetscCall(PCApply(d->inner_, r, z));
     PetscCall(MatMult(d->K_, z, d->work_));

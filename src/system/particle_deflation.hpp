@@ -17,29 +17,18 @@
 
 #include "lem/system/distributed_lattice.hpp"
 #include "lem/base/petsc_handle.hpp"
+#include "wrapped_preconditioner.hpp"
 
 #include <petscksp.h>
 
 namespace lem {
 
-/// Put a shell preconditioner (`setup`, `apply`, with `context`) in the
-/// place of the KSP's preconditioner, and return that one (the inner M of a
-/// deflation) with a reference of the caller's own.
-PC wrap_preconditioner(KSP ksp, void* context, const char* name, PetscErrorCode (*setup)(PC),
-                       PetscErrorCode (*apply)(PC, Vec, Vec));
-/// The set-up of a wrapped preconditioner: the inner M gets the shell's
-/// operators and is built now, then kept (reused) until the next set-up.
-PetscErrorCode set_up_inner_preconditioner(PC shell, PC inner);
-
-class ParticleDeflation {
+class ParticleDeflation : public WrappedPreconditioner {
  public:
   /// Wraps the KSP's current preconditioner (kept as the inner M) in a shell
   /// that applies the deflated one.  Throws InputError if the lattice has no
   /// particles.
   ParticleDeflation(const DistributedLattice& lattice, Mat K, KSP ksp);
-  ~ParticleDeflation();
-  ParticleDeflation(const ParticleDeflation&) = delete;
-  ParticleDeflation& operator=(const ParticleDeflation&) = delete;
 
   /// K changed in place (values only): the coarse operator is formed again
   /// before the next solve.
@@ -51,7 +40,6 @@ class ParticleDeflation {
   void prepare(Vec b, Vec u);
 
  private:
-  static PetscErrorCode shell_setup(PC pc);
   static PetscErrorCode shell_apply(PC pc, Vec r, Vec z);
   void build_space();
   void form_coarse();
@@ -59,7 +47,6 @@ class ParticleDeflation {
 
   const DistributedLattice& lattice_;
   Mat K_;
-  PC inner_ = nullptr;  // a reference of our own
   MatHandle W_, Wt_, coarse_matrix_;
   KspHandle coarse_;
   VecHandle coarse_rhs_, coarse_solution_, work_, work2_;

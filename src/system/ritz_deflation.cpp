@@ -1,6 +1,5 @@
 #include "ritz_deflation.hpp"
 
-#include "particle_deflation.hpp"
 #include "spectrum_probe.hpp"
 
 #include "lem/base/error.hpp"
@@ -17,14 +16,12 @@ constexpr int kMaxRecorded = 100;
 constexpr double kSlow = 0.1;
 }  // namespace
 
-RitzDeflation::RitzDeflation(Mat K, KSP ksp, int count) : K_(K), count_(count) {
-  inner_ = wrap_preconditioner(ksp, this, "Ritz-vector deflation", shell_setup, shell_apply);
+RitzDeflation::RitzDeflation(Mat K, KSP ksp, int count)
+    : WrappedPreconditioner(ksp, "Ritz-vector deflation", shell_apply), K_(K), count_(count) {
   LEM_PETSC(MatCreateVecs(K_, work_.replace(), nullptr));
   LEM_PETSC(VecDuplicate(work_, x_last_.replace()));
   LEM_PETSC(VecDuplicate(work_, p_.replace()));
 }
-
-RitzDeflation::~RitzDeflation() { PCDestroy(&inner_); }
 
 // CG calls the preconditioner once per iteration, on r_k, after it moved the
 // iterate to x_k = x_{k-1} + alpha_{k-1} p_{k-1}: alpha_{k-1} is read from
@@ -188,20 +185,12 @@ void RitzDeflation::prepare(Vec b, Vec u) {
   recording_ = true;
 }
 
-PetscErrorCode RitzDeflation::shell_setup(PC pc) {
-  PetscFunctionBeginUser;
-  RitzDeflation* d = nullptr;
-  PetscCall(PCShellGetContext(pc, &d));
-  PetscCall(set_up_inner_preconditioner(pc, d->inner_));
-  PetscFunctionReturn(0);
-}
-
 // z = y + W E^-1 (W^T r - (K W)^T y) with y = M^-1 r: the A-DEF2
 // preconditioner without a product with K (K is symmetric).
 PetscErrorCode RitzDeflation::shell_apply(PC pc, Vec r, Vec z) {
   PetscFunctionBeginUser;
   RitzDeflation* d = nullptr;
-  PetscCall(PCShellGetContext(pc, &d));
+  PetscCall(context(pc, &d));
   PetscCall(PCApply(d->inner_, r, z));
   const int k = d->size();
   if (k > 0 && !d->coarse_stale_) {

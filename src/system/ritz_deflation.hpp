@@ -20,6 +20,7 @@
 #pragma once
 
 #include "lem/base/petsc_handle.hpp"
+#include "wrapped_preconditioner.hpp"
 
 #include <petscksp.h>
 
@@ -27,14 +28,11 @@
 
 namespace lem {
 
-class RitzDeflation {
+class RitzDeflation : public WrappedPreconditioner {
  public:
   /// Wraps the KSP's current preconditioner (kept as the inner M) in a shell
   /// that applies the deflated one.  `K` is the assembled matrix.
   RitzDeflation(Mat K, KSP ksp, int count);
-  ~RitzDeflation();
-  RitzDeflation(const RitzDeflation&) = delete;
-  RitzDeflation& operator=(const RitzDeflation&) = delete;
 
   /// K changed (values or constraints): K W and W^T K W are formed again
   /// before the next solve.
@@ -49,14 +47,12 @@ class RitzDeflation {
   int size() const { return static_cast<int>(W_.size()); }
 
  private:
-  static PetscErrorCode shell_setup(PC pc);
   static PetscErrorCode shell_apply(PC pc, Vec r, Vec z);
   void record(Vec r, Vec z);
   void form_coarse();
   void coarse_solve(std::vector<PetscScalar>& t) const;  // t = E^-1 t
 
   Mat K_;
-  PC inner_ = nullptr;  // a reference of our own
   int count_;
   std::vector<VecHandle> W_, KW_;
   std::vector<Vec> w_, kw_;     // the same, for PETSc's multi-vector calls

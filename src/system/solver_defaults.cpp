@@ -129,7 +129,10 @@ void default_no_inodes() {
   option_given("-mat_no_inode");  // mark it used: BAIJ ignores it, which is no typo
 }
 
-SolverOptions read_solver_options(MPI_Comm comm) {
+namespace {
+
+// The program's own options of the elastic system and its solver.
+SolverOptions read_elastic_system_options(MPI_Comm comm) {
   SolverOptions o;
   {
     OptionGroup g(comm, "Elastic system");
@@ -170,6 +173,15 @@ SolverOptions read_solver_options(MPI_Comm comm) {
                   "multigrid-preconditioned K around the preconditioner (A-DEF2), learnt from the "
                   "Lanczos vectors of the solves themselves (docs/model/fracture.md); 0: none",
                   o.ritz_deflation, 0, 64));
+    o.soft_node_deflation =
+        g.real("-solver_soft_node_deflation",
+               "Deflate around the preconditioner every soft direction of a single node: "
+               "an eigenvector of the node's 3x3 stiffness block, scaled by its diagonal, "
+               "whose eigenvalue is below this value (a node held by a few nearly coplanar "
+               "bonds moves along it at almost no cost, unseen by the Jacobi smoother); "
+               "one coarse unknown per direction, solved exactly (docs/model/fracture.md); "
+               "0: none",
+               o.soft_node_deflation, 0.0, 0.5);
     for (const double s : g.positive_reals(
              "-solver_spectrum_solves",
              "Diagnostic: at these "
@@ -183,6 +195,13 @@ SolverOptions read_solver_options(MPI_Comm comm) {
                                  "files of -solver_spectrum_solves",
                                  o.spectrum_prefix);
   }
+  return o;
+}
+
+}  // namespace
+
+SolverOptions read_solver_options(MPI_Comm comm) {
+  SolverOptions o = read_elastic_system_options(comm);
   OptionGroup g(comm, "Linear solver (defaults set on PETSc's objects; any -ksp_*, -pc_*, "
                       "-mg_* or -mat_* option overrides them)");
   for (const SolverDefault& d : kSolverDefaults) g.petsc_default(d.name, d.help, d.value);

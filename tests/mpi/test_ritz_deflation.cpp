@@ -10,6 +10,7 @@
 #include "lem/base/error.hpp"
 #include "lem/setup/setup.hpp"
 
+#include "../compared_solves.hpp"
 #include "../exact_solver_test.hpp"
 
 #include <gtest/gtest.h>
@@ -43,38 +44,9 @@ Lattice block_lattice(std::int64_t nodes) {
   return l;
 }
 
-DistributedLattice distributed(MPI_Comm comm, const Lattice& lattice) {
-  SetupReport report;
-  return setup_tension_lattice(
-      comm,
-      [&](SampleInfo& info) {
-        info.stats = lattice_stats(lattice);
-        info.affine = affine_moduli(lattice);
-        return lattice;
-      },
-      report);
-}
-
 SolverOptions ritz(SolverOptions o, int count = 24) {
   o.ritz_deflation = count;
   return o;
-}
-
-// Largest difference of bond tensions of two solves of the same lattice
-// (bonds matched by global id), relative to the largest tension.
-double worst_tension_difference(const DistributedLattice& la, const ElasticSystem& a,
-                                const DistributedLattice& lb, const ElasticSystem& b) {
-  std::map<std::int64_t, double> by_id;
-  const auto tb = b.bond_tensions();
-  for (int i = 0; i < lb.local_bonds(); ++i) by_id[lb.bond_id[i]] = tb[i];
-  const auto ta = a.bond_tensions();
-  double worst[2] = {0, 0};
-  for (int i = 0; i < la.local_bonds(); ++i) {
-    worst[0] = std::max(worst[0], std::fabs(ta[i] - by_id.at(la.bond_id[i])));
-    worst[1] = std::max(worst[1], std::fabs(ta[i]));
-  }
-  MPI_Allreduce(MPI_IN_PLACE, worst, 2, MPI_DOUBLE, MPI_MAX, la.comm);
-  return worst[0] / worst[1];
 }
 
 using RitzDeflationTest = ExactSolverTest;

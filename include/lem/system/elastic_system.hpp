@@ -27,6 +27,7 @@ class ParticleDeflation;
 class BondOperator;
 class SingleCycle;
 class RitzDeflation;
+class SoftNodeDeflation;
 
 /// The operator CG applies: the assembled matrix K, or K applied bond by bond
 /// (the preconditioner is built from the assembled K either way).
@@ -89,6 +90,9 @@ struct SolverOptions {
   /// -solver_ritz_deflation: most columns of the Ritz-vector deflation
   /// space (0: none).
   int ritz_deflation = 0;
+  /// -solver_soft_node_deflation: deflate a node's direction whose
+  /// diagonal-scaled block eigenvalue is below this (0: none).
+  double soft_node_deflation = 0;
   /// -solver_spectrum_solves / -solver_spectrum_prefix: the solves (counted
   /// from 1 by the process) at which the spectrum probe runs, and where it
   /// writes (a diagnostic; src/system/spectrum_probe.hpp).
@@ -220,12 +224,13 @@ class ElasticSystem {
   VecHandle u_start_;  // initial guess kept for a retry
   VecHandle u_check_;  // ghosted: the check field of a decided solve (mark_check)
   KspHandle ksp_;
-  ConvergenceTest* convergence_ = nullptr;        // owned by ksp_ (destroyed with it)
-  KspHandle fallback_ksp_;                        // CG + Jacobi, for solves the multigrid fails
-  std::unique_ptr<ParticleDeflation> deflation_;  // -solver_particle_deflation
-  std::unique_ptr<RitzDeflation> ritz_;           // -solver_ritz_deflation
-  std::unique_ptr<BondOperator> bonds_;           // -solver_operator bonds
-  std::unique_ptr<SingleCycle> single_cycle_;     // -solver_cycle_precision single
+  ConvergenceTest* convergence_ = nullptr;         // owned by ksp_ (destroyed with it)
+  KspHandle fallback_ksp_;                         // CG + Jacobi, for solves the multigrid fails
+  std::unique_ptr<ParticleDeflation> deflation_;   // -solver_particle_deflation
+  std::unique_ptr<RitzDeflation> ritz_;            // -solver_ritz_deflation
+  std::unique_ptr<SoftNodeDeflation> soft_nodes_;  // -solver_soft_node_deflation
+  std::unique_ptr<BondOperator> bonds_;            // -solver_operator bonds
+  std::unique_ptr<SingleCycle> single_cycle_;      // -solver_cycle_precision single
   double diagonal_scale_ = 1.0;
   double ground_ = 0.0;  // diagonal added on free dofs (-lattice_ground_stiffness)
   double current_displacement_ = 0.0;

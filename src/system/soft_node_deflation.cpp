@@ -1,0 +1,249 @@
+#include "soft_node_deflation.hpp"
+
+#include "bond_operator.hpp"
+#include "wrapped_preconditioner.hpp"
+
+#include "lem/base/error.hpp"
+#include "lem/system/tension.hpp"
+
+#include <mpi.h>
+
+#include <cmath>
+#include <utility>
+
+namespace lem {
+namespace {
+
+constexpr double kMechanism = 1e-6;
+
+// Eigenvalues and unit eigenvectors (columns of v, v[3 * row + column]) of a
+// symmetric 3x3 matrix a, by cyclic Jacobi rotations (a is overwritten).
+void symmetric_eigen3(double a[9], double values[3], double v[9]) {
+  for (int i = 0; i < 9; ++i) v[i] = (i % 4 == 0) ? 1.0 : 0.0;
+  for (int sweep = 0; sweep < 50; ++sweep) {
+    const double off = a[1] * a[1] + a[2] * a[2] + a[5] * a[5];
+    const double diag = a[0] * a[0] + a[4] * a[4] + a[8] * a[8];
+    if (off <= 1e-30 * diag) break;
+    for (int p = 0; p < 2; ++p)
+      for (int q = p + 1; q < 3; ++q) {
+        const double apq = a[3 * p + q];
+        if (apq == 0.0) continue;
+        const double theta = (a[3 * q + q] - a[3 * p + p]) / (2.0 * apq);
+        const double t =
+            (theta >= 0 ? 1.0 : -1.0) / (std::abs(theta) + std::sqrt(theta * theta + 1));
+        const double c = 1.0 / std::sqrt(t * t + 1), s = t * c;
+        for (int k = 0; k < 3; ++k) {  // a <- a J (columns p, q)
+          const double akp = a[3 * k + p], akq = a[3 * k + q];
+          a[3 * k + p] = c * akp - s * akq;
+          a[3 * k + q] = s * akp + c * akq;
+        }
+        for (int k = 0; k < 3; ++k) {  // a <- J^T a (rows p, q)
+          const double apk = a[3 * p + k], aqk = a[3 * q + k];
+          a[3 * p + k] = c * apk - s * aqk;
+          a[3 * q + k] = s * apk + c * aqk;
+        }
+        for (int k = 0; k < 3; ++k) {  // v <- v J
+          const double vkp = v[3 * k + p], vkq = v[3 * k + q];
+          v[3 * k + p] = c * vkp - s * vkq;
+          v[3 * k + q] = s * vkp + c * vkq;
+        }
+      }
+  }
+  for (int i = 0; i < 3; ++i) values[i] = a[4 * i];
+}
+
+}  // namespace
+
+std::vector<SoftDirection> find_soft_directions(const DistributedLattice& l, double ground,
+                                                double threshold) {
+  // Each owned node's block sum_b k_b n_b n_b^T over its intact bonds (every
+  // bond of an owned node is local).
+  std::vector<std::array<double, 9>> blocks(l.owned, std::array<double, 9>{});
+  for (int b = 0; b < l.local_bonds(); ++b) {
+    const double k = l.bond_stiffness[b];
+    if (!(k > 0)) continue;
+    double n[3];
+    bond_direction(l, b, n);
+    for (const int node : l.bond_ends[b]) {
+      if (node >= l.owned) continue;
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) blocks[node][3 * i + j] += k * n[i] * n[j];
+    }
+  }
+  std::vector<SoftDirection> soft;
+  for (int node = 0; node < l.owned; ++node) {
+    const std::uint8_t flags = l.dof_flags[node];
+    double scale[3], s[9], mu[3], y[9];
+    bool any_free = false;
+    for (int i = 0; i < 3; ++i) {
+      const bool fixed = is_fixed(flags, i);
+      any_free = any_free || !fixed;
+      const double d = blocks[node][4 * i] + ground;
+      scale[i] = (fixed || !(d > 0)) ? 0.0 : 1.0 / std::sqrt(d);
+    }
+    if (!any_free) continue;
+    // D^-1/2 B D^-1/2 on the free dofs; a fixed dof (or one without
+    // stiffness) keeps 1 on its diagonal (never soft) and no coupling.
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        s[3 * i + j] = scale[i] * (blocks[node][3 * i + j] + (i == j ? ground : 0.0)) * scale[j];
+    for (int i = 0; i < 3; ++i)
+      if (scale[i] == 0.0) s[4 * i] = 1.0;
+    symmetric_eigen3(s, mu, y);
+    for (int c = 0; c < 3; ++c) {
+      // Below kMechanism the direction is held by the ground spring alone (a
+      // node left with one or two bonds): the load does not move it and CG
+      // leaves it alone; a coarse unknown of that stiffness would only
+      // carry rounding into the field.
+      if (!(mu[c] < threshold) || mu[c] < kMechanism) continue;
+      SoftDirection d;
+      d.node = node;
+      double norm2 = 0;
+      for (int i = 0; i < 3; ++i) {
+        d.vector[i] = scale[i] * y[3 * i + c];
+        norm2 += d.vector[i] * d.vector[i];
+      }
+      if (!(norm2 > 0)) continue;
+      for (double& x : d.vector) x /= std::sqrt(norm2);
+      soft.push_back(d);
+    }
+  }
+  return soft;
+}
+
+SoftNodeDeflation::SoftNodeDeflation(const DistributedLattice& lattice, double ground, Mat K,
+                                     KSP ksp, double threshold)
+    : WrappedPreconditioner(ksp, "soft-node deflation", shell_apply),
+      lattice_(lattice),
+      ground_(ground),
+      threshold_(threshold),
+      K_(K) {
+  create_coarse_solver(lattice_.comm, coarse_);
+  LEM_PETSC(MatCreateVecs(K_, work_.replace(), nullptr));
+}
+
+// W from the soft directions, numbered rank by rank; K W and W^T K W formed
+// by sparse products.
+void SoftNodeDeflation::build() {
+  const DistributedLattice& l = lattice_;
+  const std::vector<SoftDirection> soft = find_soft_directions(l, ground_, threshold_);
+  std::int64_t mine = static_cast<std::int64_t>(soft.size()), first = 0, total = 0;
+  MPI_Exscan(&mine, &first, 1, MPI_INT64_T, MPI_SUM, l.comm);
+  MPI_Allreduce(&mine, &total, 1, MPI_INT64_T, MPI_SUM, l.comm);
+  int rank = 0;
+  MPI_Comm_rank(l.comm, &rank);
+  if (rank == 0) first = 0;
+  columns_ = total;
+  stale_ = false;
+  W_.reset();
+  Wt_.reset();
+  KWt_.reset();
+  coarse_matrix_.reset();
+  LEM_PETSC(KSPReset(coarse_));
+  if (total == 0) return;
+
+  LEM_PETSC(MatCreateAIJ(l.comm, 3 * l.owned, static_cast<PetscInt>(mine), PETSC_DETERMINE,
+                         static_cast<PetscInt>(total), 3, nullptr, 0, nullptr, W_.replace()));
+  for (std::size_t j = 0; j < soft.size(); ++j) {
+    const PetscInt column = static_cast<PetscInt>(first) + static_cast<PetscInt>(j);
+    for (int a = 0; a < 3; ++a) {
+      if (soft[j].vector[a] == 0.0) continue;
+      const PetscInt row = 3 * static_cast<PetscInt>(l.global_index[soft[j].node]) + a;
+      LEM_PETSC(MatSetValue(W_, row, column, soft[j].vector[a], INSERT_VALUES));
+    }
+  }
+  LEM_PETSC(MatAssemblyBegin(W_, MAT_FINAL_ASSEMBLY));
+  LEM_PETSC(MatAssemblyEnd(W_, MAT_FINAL_ASSEMBLY));
+  // Products with the stored transposes: MatMultTranspose of a parallel AIJ
+  // matrix is several times slower.
+  LEM_PETSC(MatTranspose(W_, MAT_INITIAL_MATRIX, Wt_.replace()));
+  form_kw_transpose(soft, static_cast<PetscInt>(first));
+  LEM_PETSC(MatMatMult(KWt_, W_, MAT_INITIAL_MATRIX, PETSC_DEFAULT, coarse_matrix_.replace()));
+  LEM_PETSC(KSPSetOperators(coarse_, coarse_matrix_, coarse_matrix_));
+  LEM_PETSC(KSPSetUp(coarse_));
+  LEM_PETSC(MatCreateVecs(W_, coarse_solution_.replace(), nullptr));
+  LEM_PETSC(VecDuplicate(coarse_solution_, coarse_rhs_.replace()));
+  LEM_PETSC(VecDuplicate(coarse_solution_, coarse_other_.replace()));
+}
+
+// (K W)^T row by row from the bonds of each soft node (all local: a rank
+// holds every bond of its owned nodes): K w for a direction v on node n is
+// sum_b k_b n_b (n_b . v) on n and -k_b n_b (n_b . v) on the bond's other
+// end, on free dofs only, plus the ground spring on n.  Cheaper than a
+// product with K, which would read all of it after every batch of ruptures.
+void SoftNodeDeflation::form_kw_transpose(const std::vector<SoftDirection>& soft, PetscInt first) {
+  const DistributedLattice& l = lattice_;
+  std::vector<std::vector<int>> columns_of(l.owned);  // node -> its soft directions
+  for (std::size_t j = 0; j < soft.size(); ++j)
+    columns_of[soft[j].node].push_back(static_cast<int>(j));
+  std::vector<PetscInt> per_row(soft.size(), 3);
+  for (int b = 0; b < l.local_bonds(); ++b)
+    for (const int node : l.bond_ends[b])
+      if (node < l.owned)
+        for (const int j : columns_of[node]) per_row[j] += 3;
+  LEM_PETSC(MatCreateAIJ(l.comm, static_cast<PetscInt>(soft.size()), 3 * l.owned, PETSC_DETERMINE,
+                         PETSC_DETERMINE, 0, per_row.data(), 0, per_row.data(), KWt_.replace()));
+  auto add = [&](int j, int node, int a, double value) {
+    if (is_fixed(l.dof_flags[node], a) || value == 0.0) return;
+    const PetscInt row = first + j, column = 3 * static_cast<PetscInt>(l.global_index[node]) + a;
+    LEM_PETSC(MatSetValue(KWt_, row, column, value, ADD_VALUES));
+  };
+  for (std::size_t j = 0; j < soft.size(); ++j)
+    for (int a = 0; a < 3; ++a)
+      add(static_cast<int>(j), soft[j].node, a, ground_ * soft[j].vector[a]);
+  for (int b = 0; b < l.local_bonds(); ++b) {
+    const double k = l.bond_stiffness[b];
+    if (!(k > 0)) continue;
+    double n[3];
+    bond_direction(l, b, n);
+    for (int e = 0; e < 2; ++e) {
+      const int me = l.bond_ends[b][e], other = l.bond_ends[b][1 - e];
+      if (me >= l.owned) continue;
+      for (const int j : columns_of[me]) {
+        const std::array<double, 3>& v = soft[j].vector;
+        const double stretch = k * (n[0] * v[0] + n[1] * v[1] + n[2] * v[2]);
+        for (int a = 0; a < 3; ++a) {
+          add(j, me, a, stretch * n[a]);
+          add(j, other, a, -stretch * n[a]);
+        }
+      }
+    }
+  }
+  LEM_PETSC(MatAssemblyBegin(KWt_, MAT_FINAL_ASSEMBLY));
+  LEM_PETSC(MatAssemblyEnd(KWt_, MAT_FINAL_ASSEMBLY));
+}
+
+void SoftNodeDeflation::coarse_correction(Vec t, Vec out) {
+  LEM_PETSC(KSPSolve(coarse_, t, coarse_solution_));
+  LEM_PETSC(MatMultAdd(W_, coarse_solution_, out, out));
+}
+
+void SoftNodeDeflation::prepare(Vec b, Vec u) {
+  if (stale_) build();
+  if (columns_ == 0) return;
+  LEM_PETSC(MatMult(K_, u, work_));  // work = b - K u
+  LEM_PETSC(VecAYPX(work_, -1.0, b));
+  LEM_PETSC(MatMult(Wt_, work_, coarse_rhs_));
+  coarse_correction(coarse_rhs_, u);
+}
+
+// z = y + W E^-1 (W^T r - (K W)^T y) with y = M^-1 r (K is symmetric).
+PetscErrorCode SoftNodeDeflation::shell_apply(PC pc, Vec r, Vec z) {
+  PetscFunctionBeginUser;
+  SoftNodeDeflation* d = nullptr;
+  PetscCall(context(pc, &d));
+  PetscCall(PCApply(d->inner_, r, z));
+  if (d->columns_ > 0 && !d->stale_) {
+    PetscCall(MatMult(d->Wt_, r, d->coarse_rhs_));
+    PetscCall(MatMult(d->KWt_, z, d->coarse_other_));
+    PetscCall(VecAXPY(d->coarse_rhs_, -1.0, d->coarse_other_));
+    try {
+      d->coarse_correction(d->coarse_rhs_, z);
+    } catch (const PetscFailure& e) {
+      SETERRQ(PetscObjectComm(reinterpret_cast<PetscObject>(pc)), PETSC_ERR_LIB, "%s", e.what());
+    }
+  }
+  PetscFunctionReturn(0);
+}
+
+}  // namespace lem
