@@ -73,8 +73,8 @@ set(LEM_QUICK_BAD_INPUTS
   ranks_error_alone ranks_error_petsc bad_checkpoint_crafted bad_input_not_regular_files)
 
 # Group labels by the test's name, for the tests that have none yet (the
-# GoogleTest programs get `unit` or `mpi` from lem_add_test): `ctest -L
-# <group>` runs one group.
+# GoogleTest programs get their module's name from lem_add_test, e.g.
+# `system`): `ctest -L <group>` runs one group.
 set(LEM_TEST_GROUPS
   "^(bad_input_|bad_samples_setup$|bad_checkpoint_crafted$|ranks_error_|help_):bad_input"
   "^outputs_:outputs"
