@@ -173,14 +173,16 @@ void SoftNodeDeflation::build() {
 // product with K, which would read all of it after every batch of ruptures.
 void SoftNodeDeflation::form_kw_transpose(const std::vector<SoftDirection>& soft, PetscInt first) {
   const DistributedLattice& l = lattice_;
-  std::vector<std::vector<int>> columns_of(l.owned);  // node -> its soft directions
-  for (std::size_t j = 0; j < soft.size(); ++j)
-    columns_of[soft[j].node].push_back(static_cast<int>(j));
+  // find_soft_directions lists a node's directions together: node n owns
+  // the columns [first_of[n], first_of[n + 1]) of `soft`.
+  std::vector<int> first_of(l.owned + 1, 0);
+  for (const SoftDirection& d : soft) ++first_of[d.node + 1];
+  for (int n = 0; n < l.owned; ++n) first_of[n + 1] += first_of[n];
   std::vector<PetscInt> per_row(soft.size(), 3);
   for (int b = 0; b < l.local_bonds(); ++b)
     for (const int node : l.bond_ends[b])
       if (node < l.owned)
-        for (const int j : columns_of[node]) per_row[j] += 3;
+        for (int j = first_of[node]; j < first_of[node + 1]; ++j) per_row[j] += 3;
   LEM_PETSC(MatCreateAIJ(l.comm, static_cast<PetscInt>(soft.size()), 3 * l.owned, PETSC_DETERMINE,
                          PETSC_DETERMINE, 0, per_row.data(), 0, per_row.data(), KWt_.replace()));
   auto add = [&](int j, int node, int a, double value) {
@@ -199,7 +201,7 @@ void SoftNodeDeflation::form_kw_transpose(const std::vector<SoftDirection>& soft
     for (int e = 0; e < 2; ++e) {
       const int me = l.bond_ends[b][e], other = l.bond_ends[b][1 - e];
       if (me >= l.owned) continue;
-      for (const int j : columns_of[me]) {
+      for (int j = first_of[me]; j < first_of[me + 1]; ++j) {
         const std::array<double, 3>& v = soft[j].vector;
         const double stretch = k * (n[0] * v[0] + n[1] * v[1] + n[2] * v[2]);
         for (int a = 0; a < 3; ++a) {

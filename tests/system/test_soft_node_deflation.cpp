@@ -194,7 +194,9 @@ TEST_F(SoftNodeDeflation, SolvesTheSameSystemInFewerIterations) {
   const int its_plain = plain.solve(1e-4).iterations, its_deflated = with.solve(1e-4).iterations;
   EXPECT_NEAR(with.response().young_modulus / plain.response().young_modulus, 1.0, 1e-7);
   EXPECT_LT(worst_tension_difference(ld, with, lp, plain), 1e-6);
-  EXPECT_LT(its_deflated, its_plain) << its_deflated << " against " << its_plain;
+  // 66 against 553 (1 rank), 66 against 526 (2 ranks); a K W with the wrong
+  // sign on the neighbours' rows gives 143: the bound catches it.
+  EXPECT_LT(its_deflated, 0.2 * its_plain) << its_deflated << " against " << its_plain;
   // Bonds break in place, the multigrid is kept: the space is found again.
   auto damage = [](DistributedLattice& dl, ElasticSystem& s) {
     for (int b = 0; b < dl.local_bonds(); ++b)
@@ -207,7 +209,7 @@ TEST_F(SoftNodeDeflation, SolvesTheSameSystemInFewerIterations) {
             again_deflated = with.solve(1.5e-4).iterations;
   EXPECT_NEAR(with.response().young_modulus / plain.response().young_modulus, 1.0, 1e-7);
   EXPECT_LT(worst_tension_difference(ld, with, lp, plain), 1e-6);
-  EXPECT_LE(again_deflated, again_plain) << again_deflated << " against " << again_plain;
+  EXPECT_LT(again_deflated, 0.2 * again_plain) << again_deflated << " against " << again_plain;
   PetscPrintf(PETSC_COMM_WORLD,
               "%d crafted nodes; CG iterations %d and %d deflated, %d and %d plain\n", crafted,
               its_deflated, again_deflated, its_plain, again_plain);
