@@ -80,6 +80,22 @@ bool CriticalBonds::in_doubt(const std::vector<double>& tension) const {
   return any != 0;
 }
 
+bool CriticalBonds::doubts_decided(const std::vector<double>& tension, double error) const {
+  const DistributedLattice& l = lattice_;
+  int open = 0, any = 0;
+  for (int b = 0; b < l.local_bonds() && band_ > 0 && !open; ++b)
+    open = l.bond_reported[b] && l.bond_stiffness[b] > 0 &&
+           lem::in_doubt(tension[b], level(b), band_) && !(std::abs(tension[b] - level(b)) > error);
+  MPI_Allreduce(&open, &any, 1, MPI_INT, MPI_MAX, l.comm);
+  return any == 0;
+}
+
+double ErrorTail::next(double change) {
+  const double rho = earlier_ > 0 ? change / earlier_ : 1.0;
+  earlier_ = change;
+  return rho < 1 ? std::max(1.0, rho / (1 - rho)) : 0.0;
+}
+
 std::vector<Rupture> CriticalBonds::find(const std::vector<double>& tension) const {
   const DistributedLattice& l = lattice_;
   std::int64_t bad = -1, worst = -1;

@@ -93,7 +93,7 @@ std::string fracture_fingerprint(const DistributedLattice& l, const FractureOpti
   s << registered_fingerprint(o.break_rule, o.relaxation);  // their own options' lines
   s << "decision_safety=" << o.decision_safety << "\ndecision_interval=" << o.decision_interval
     << "\ndecided_closing=" << o.decided_closing << "\ntie_band=" << o.tie_band
-    << "\ntie_rtol=" << o.tie_rtol << "\n";
+    << "\ntie_rtol=" << o.tie_rtol << "\ntie_solve=continued\n";
   if (scope == FingerprintScope::calibration)
     s << "stop_fraction=" << o.stop_fraction << "\nstop_within_step=" << o.stop_within_step << "\n";
   std::istringstream options(option_lines(kAllOptionKinds));

@@ -126,13 +126,14 @@ void read_relaxation_options(MPI_Comm comm, FractureOptions& o) {
       "-fracture_tie_band",
       "Near-ties: a bond whose force differs from its level (threshold, "
       "or the force floor) by less than this times -ksp_rtol times the mean positive "
-      "threshold, and exceeds half that level, is decided on a re-solve to "
+      "threshold, and exceeds half that level, is decided on the field solved on to "
       "-fracture_tie_rtol, so that solver noise (which depends on the rank count) decides no "
       "rupture.  0: decide on the field as solved",
       o.tie_band, 0.0, 1e12);
   o.tie_rtol = g.real("-fracture_tie_rtol",
-                      "Relative tolerance of the re-solve that decides "
-                      "near-ties (-fracture_tie_band); none when -ksp_rtol is not above it",
+                      "Relative tolerance to which a solve that meets -ksp_rtol "
+                      "goes on (in the same CG run) when a bond is in doubt "
+                      "(-fracture_tie_band); nothing more when -ksp_rtol is not above it",
                       o.tie_rtol, 0.0, 1.0, true);
 }
 

@@ -43,11 +43,15 @@ SolveReport PreconditionerPolicy::count(const SolveReport& report, bool relaxati
   tally_.early_stops += report.stopped_early;
   tally_.iterations += report.iterations;
   tally_.fallback_solves += report.used_fallback;
+  tally_.tie_solves += report.tightened;
+  tally_.tie_iterations += report.tightened_iterations;
   if (report.preconditioner_built) {
     tally_.preconditioner_builds += 1;
     ledger_.record_build();
   }
-  if (rule_.after_solve(state_, report.iterations, report.preconditioner_built,
+  // The iterations for near-ties say nothing of the preconditioner's age.
+  const int own = report.iterations - report.tightened_iterations;
+  if (rule_.after_solve(state_, own, report.preconditioner_built,
                         relaxation && !report.stopped_early))
     system_.rebuild_preconditioner();
   return report;

@@ -12,7 +12,37 @@
 
 namespace lem {
 
-Relaxation::Relaxation(const RelaxationParts& parts) : p_(parts), pieces_(parts.lattice) {}
+Relaxation::Relaxation(const RelaxationParts& parts) : p_(parts), pieces_(parts.lattice) {
+  // A solve that meets -ksp_rtol with a bond in doubt goes on, in its own
+  // Krylov space, to -fracture_tie_rtol; with decided solves, only until
+  // the certificate puts every bond in doubt beyond its error.  next_batch
+  // solves again the fields that did neither.
+  Tightening t{p_.options.tie_rtol, [this] {
+                 tie_check_.clear();  // the tail starts again with each solve
+                 tie_tail_.restart();
+                 return p_.critical.in_doubt(p_.system.bond_tensions());
+               }};
+  if (decides_early()) {
+    t.interval = p_.options.decision_interval;
+    t.settled = [this] { return ties_settled(); };
+  }
+  p_.system.set_tightening(std::move(t));
+}
+
+Relaxation::~Relaxation() { p_.system.set_tightening({}); }
+
+bool Relaxation::ties_settled() {
+  std::vector<double> now = p_.system.bond_tensions();
+  bool settled = false;
+  if (!tie_check_.empty()) {  // the first check only records the field
+    const double change = p_.critical.force_error(now, tie_check_, 1.0);
+    const double tail = tie_tail_.next(change);
+    settled =
+        tail > 0 && p_.critical.doubts_decided(now, p_.options.decision_safety * tail * change);
+  }
+  tie_check_ = std::move(now);
+  return settled;
+}
 
 bool Relaxation::break_batch(const std::vector<Rupture>& batch, std::int64_t step, int cycle,
                              double strain) {
@@ -87,23 +117,20 @@ SolveReport Relaxation::solve_for_decision(double top_displacement) {
   // error: the slow, smooth part of the error moves forces that hardly
   // change over an interval (docs/notes/fracture-certificate.md).
   std::vector<double> earlier;
-  double earlier_change = 0;  // E of the interval before, 0: none yet
+  ErrorTail series;
   EarlyStop early;
   early.interval = p_.options.decision_interval;
   std::vector<double> decided;
   early.restart = [&] {
     earlier.clear();
-    earlier_change = 0;
+    series.restart();
   };
   early.decided = [&] {
     LogStageScope stage("Decisions");
     std::vector<double> now = p_.system.bond_tensions();
     if (!earlier.empty()) {
-      const double change = p_.critical.force_error(now, earlier, 1.0);
-      const double rho = earlier_change > 0 ? change / earlier_change : 1.0;
-      earlier_change = change;
-      if (rho < 1) {
-        const double tail = std::max(1.0, rho / (1 - rho));
+      const double tail = series.next(p_.critical.force_error(now, earlier, 1.0));
+      if (tail > 0) {
         std::vector<double> stretched(now.size());
         for (std::size_t b = 0; b < now.size(); ++b)
           stretched[b] = now[b] + tail * (earlier[b] - now[b]);
@@ -148,12 +175,17 @@ std::vector<Rupture> Relaxation::next_batch(double top_displacement) {
       tensions = p_.system.bond_tensions();
     }
   }
-  // A solve already as tight as the tie tolerance gains nothing from another.
-  if (p_.system.at_equilibrium() && p_.options.tie_rtol < p_.system.rtol() &&
-      p_.critical.in_doubt(tensions)) {
-    p_.solver.solve_to(p_.options.tie_rtol, top_displacement);
+  // Solves normally go on to the tie tolerance themselves (the Protocol's
+  // Tightening); a field they did not take there (the fallback solver's, a
+  // restored one) is solved again from where it is.
+  if (p_.system.at_equilibrium() && p_.options.tie_rtol < p_.system.field_rtol() &&
+      !p_.system.ties_settled() && p_.critical.in_doubt(tensions)) {
+    const SolveReport again = p_.solver.solve_to(p_.options.tie_rtol, top_displacement);
     p_.tally.tie_solves += 1;
+    p_.tally.tie_iterations += again.iterations;
     tensions = p_.system.bond_tensions();
+  } else if (p_.system.ties_settled()) {
+    check_decision(tensions);
   }
   return p_.critical.find(tensions);
 }

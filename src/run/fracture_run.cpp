@@ -282,6 +282,7 @@ Summary fracture_summary(MPI_Comm comm, const SampleOptions& sample, const Fract
   count("early_stops", r.early_stops);
   count("decided_steps", r.decided_steps);
   count("tie_solves", r.tie_solves);
+  count("tie_iterations", r.tie_iterations);
   count("ksp_iterations", r.iterations);
   count("pc_builds", r.preconditioner_builds);
   count("fallback_solves", r.fallback_solves);

@@ -55,7 +55,10 @@ const std::vector<SummaryField>& run_fields() {
       {"solves", "", "linear solves"},
       {"early_stops", "", "relaxation solves ended once the batch was decided"},
       {"decided_steps", "", "load steps that ended on a decided field"},
-      {"tie_solves", "", "near-tie re-solves to `-fracture_tie_rtol`"},
+      {"tie_solves", "", "solves taken on past `-ksp_rtol` to decide near-ties"},
+      {"tie_iterations", "",
+       "CG iterations of those solves after `-ksp_rtol` (part of "
+       "`ksp_iterations`)"},
       {"ksp_iterations", "", "CG iterations"},
       {"pc_builds", "", "preconditioner builds"},
       {"fallback_solves", "", "solves finished by the fallback solver (Jacobi-CG)"},

@@ -9,6 +9,7 @@
 #include "lem/system/lateral_strain.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <stdexcept>
 
 namespace lem {
@@ -191,6 +192,7 @@ void ElasticSystem::rescale(double top_displacement) {
   scale_field(lattice_, u_, factor, equilibrium_ ? top_displacement : 0.0);
   if (!equilibrium_) scale_field(lattice_, u_check_, factor, 0.0);
   current_displacement_ = top_displacement;
+  ties_settled_ = false;  // the near-ties of another load
 }
 
 void ElasticSystem::mark_check() {
@@ -226,6 +228,9 @@ void ElasticSystem::set_state(const std::vector<double>& owned, double top_displ
   current_displacement_ = top_displacement;
   operator_changed_ = false;  // the caller restores a state of the current K
   equilibrium_ = owned_check.empty();
+  // What tolerance a kept field met is not kept: the least, -ksp_rtol.
+  field_rtol_ = equilibrium_ ? rtol() : std::numeric_limits<double>::infinity();
+  ties_settled_ = false;
 }
 
 }  // namespace lem

@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -323,6 +324,11 @@ SolveReport ElasticSystem::solve(double top_displacement, const EarlyStop* early
   current_displacement_ = top_displacement;
   operator_changed_ = false;
   equilibrium_ = !report.stopped_early;
+  // The fallback solver runs to the same tolerance as the multigrid's.
+  ties_settled_ = equilibrium_ && report.ties_settled;
+  field_rtol_ = !equilibrium_                        ? std::numeric_limits<double>::infinity()
+                : report.tightened && !ties_settled_ ? tightening_.rtol
+                                                     : rtol();
   update_ghosts();
   return report;
 }
@@ -372,7 +378,11 @@ struct ElasticSystem::ConvergenceTest {
   void* inner_context = nullptr;
   PetscErrorCode (*inner_destroy)(void*) = nullptr;
   ElasticSystem* system = nullptr;
-  const EarlyStop* early = nullptr;  // set for one solve
+  const EarlyStop* early = nullptr;        // set for one solve
+  const Tightening* tightening = nullptr;  // set for one solve
+  PetscInt tightened_at = -1;              // the iteration it went on from, -1: not
+  PetscReal tight_norm = 0;                // the residual norm it goes on to
+  bool settled = false;                    // Tightening::settled ended it
   bool stopped = false;
   std::exception_ptr error;
 
@@ -382,7 +392,12 @@ struct ElasticSystem::ConvergenceTest {
     auto* c = static_cast<ConvergenceTest*>(ctx);
     PetscCall(c->inner(ksp, it, rnorm, reason, c->inner_context));
     if (c->early && it == 0 && c->early->restart) c->early->restart();  // cannot throw
-    if (!c->early || *reason != KSP_CONVERGED_ITERATING || it == 0 || it % c->early->interval != 0)
+    if (c->tightening && (*reason > 0 || (c->tightened_at >= 0 && *reason == 0)))
+      PetscCall(c->tighten(ksp, it, rnorm, reason));
+    // A solve gone on for near-ties ends on their tolerance, an equilibrium
+    // like the re-solve it replaces.
+    if (!c->early || *reason != KSP_CONVERGED_ITERATING || it == 0 ||
+        it % c->early->interval != 0 || c->tightened_at >= 0)
       PetscFunctionReturn(0);
     try {
       c->system->update_ghosts();
@@ -395,6 +410,44 @@ struct ElasticSystem::ConvergenceTest {
       *reason = KSP_DIVERGED_BREAKDOWN;
     }
     PetscFunctionReturn(0);
+  }
+  // Met -ksp_rtol (the inner test's verdict): go on if the field wants the
+  // Tightening's rtol, until the residual norm has fallen by the ratio of
+  // the two tolerances (the inner test keeps its target from iteration 0,
+  // so it cannot be lowered; the norm here is at most that target, so the
+  // field ends at least as tight as a solve to the Tightening's rtol).
+  PetscErrorCode tighten(KSP ksp, PetscInt it, PetscReal rnorm, KSPConvergedReason* reason) {
+    PetscFunctionBeginUser;
+    if (tightened_at < 0) {
+      PetscReal rtol = 0;
+      PetscCall(KSPGetTolerances(ksp, &rtol, nullptr, nullptr, nullptr));
+      if (rtol <= tightening->rtol || !ask(tightening->wanted, reason)) PetscFunctionReturn(0);
+      tightened_at = it;
+      tight_norm = rnorm * (tightening->rtol / rtol);
+    }
+    if (rnorm <= tight_norm) {
+      *reason = KSP_CONVERGED_RTOL;
+      PetscFunctionReturn(0);
+    }
+    *reason = KSP_CONVERGED_ITERATING;
+    if (tightening->settled && (it - tightened_at) % tightening->interval == 0 &&
+        ask(tightening->settled, reason)) {
+      settled = true;
+      *reason = KSP_CONVERGED_RTOL;
+    }
+    PetscFunctionReturn(0);
+  }
+  // question(), on the current iterate; an exception is kept for after
+  // KSPSolve and ends the solve.
+  bool ask(const std::function<bool()>& question, KSPConvergedReason* reason) {
+    try {
+      system->update_ghosts();
+      return question();
+    } catch (...) {
+      error = std::current_exception();
+      *reason = KSP_DIVERGED_BREAKDOWN;
+      return false;
+    }
   }
   static PetscErrorCode destroy(void* ctx) {
     auto* c = static_cast<ConvergenceTest*>(ctx);
@@ -437,10 +490,14 @@ SolveReport ElasticSystem::attempt_solve(const EarlyStop* early) {
   PetscBool cg = PETSC_FALSE;
   LEM_PETSC(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(ksp_.get()), KSPCG, &cg));
   convergence_->early = cg ? early : nullptr;
+  convergence_->tightening = cg && tightening_.wanted ? &tightening_ : nullptr;
+  convergence_->tightened_at = -1;
+  convergence_->settled = false;
   convergence_->stopped = false;
   convergence_->error = nullptr;
   const PetscErrorCode solved = KSPSolve(ksp_, b_, u_);
   convergence_->early = nullptr;
+  convergence_->tightening = nullptr;
   if (ritz_ && !solved) ritz_->learn();
   if (convergence_->error) std::rethrow_exception(convergence_->error);
   if (solved) throw PetscFailure("KSPSolve(ksp_, b_, u_)", solved);
@@ -454,6 +511,11 @@ SolveReport ElasticSystem::attempt_solve(const EarlyStop* early) {
   LEM_PETSC(KSPGetConvergedReason(ksp_, &report.reason));
   report.iterations = static_cast<int>(its);
   report.residual_norm = rnorm;
+  if (convergence_->tightened_at >= 0) {
+    report.tightened = true;
+    report.tightened_iterations = static_cast<int>(its - convergence_->tightened_at);
+    report.ties_settled = convergence_->settled;
+  }
   return report;
 }
 

@@ -6,6 +6,7 @@
 #include "lem/base/error.hpp"
 #include "lem/system/tension.hpp"
 
+#include <limits>
 #include <vector>
 
 namespace lem {
@@ -48,6 +49,8 @@ SolveReport ElasticSystem::relax_patch(const std::vector<int>& owned_nodes, doub
     LEM_PETSC(VecRestoreSubVector(u_, is, &u_patch));
     update_ghosts();
     equilibrium_ = false;
+    field_rtol_ = std::numeric_limits<double>::infinity();
+    ties_settled_ = false;
     u_check_.reset();  // a patch field has no certificate: it cannot be rescaled
   }
   LEM_PETSC(KSPDestroy(&ksp));

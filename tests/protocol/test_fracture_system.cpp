@@ -228,6 +228,82 @@ TEST_F(FractureParts, NearTiesAreInDoubt) {
   EXPECT_EQ(system.rtol(), rtol);
 }
 
+// Near-ties (Tightening): a solve that meets -ksp_rtol and is asked to go
+// on continues in its own CG run, and ends as close to the converged field
+// as a second solve from the converged field to the tighter tolerance (in
+// fewer iterations where slow modes make the last decades slow: the main
+// job, docs/notes/slow-modes.md; about as many on this small lattice);
+// settled() ends it as soon as it says so (an equilibrium
+// whose near-ties are settled, which scaling to another load forgets);
+// unasked, a solve is what it was.
+TEST_F(FractureParts, ASolveGoesOnForNearTiesInItsOwnKrylovSpace) {
+  PetscOptionsSetValue(nullptr, "-ksp_rtol", "1e-6");
+  DistributedLattice l = make_problem([] { return random_lattice(6000, 7); });
+  const double top = 1e-3 * l.box.length(2), tight = 1e-8;
+  std::vector<double> converged;
+  {
+    ElasticSystem reference(l, exact);
+    reference.assemble();
+    reference.solve_to(1e-13, top);
+    converged = reference.bond_tensions();
+  }
+  auto error = [&](const ElasticSystem& s) {  // largest force error / largest force
+    const std::vector<double> t = s.bond_tensions();
+    double mine[2] = {0, 0}, all[2];
+    for (int b = 0; b < l.local_bonds(); ++b) {
+      if (!l.bond_reported[b]) continue;
+      mine[0] = std::max(mine[0], std::abs(t[b] - converged[b]));
+      mine[1] = std::max(mine[1], std::abs(converged[b]));
+    }
+    MPI_Allreduce(mine, all, 2, MPI_DOUBLE, MPI_MAX, l.comm);
+    return all[0] / all[1];
+  };
+  ElasticSystem restarted(l, exact);
+  restarted.assemble();
+  const SolveReport first = restarted.solve(top);
+  const double loose = error(restarted);
+  const SolveReport again = restarted.solve_to(tight, top);
+  const double restarted_error = error(restarted);
+
+  ElasticSystem continued(l, exact);
+  continued.assemble();
+  int asked = 0;
+  continued.set_tightening({tight, [&] { return ++asked > 0; }});
+  const SolveReport on = continued.solve(top);
+  EXPECT_EQ(asked, 1);
+  ASSERT_TRUE(on.tightened);
+  EXPECT_FALSE(on.ties_settled);
+  EXPECT_EQ(on.iterations - on.tightened_iterations, first.iterations);
+  EXPECT_GT(on.tightened_iterations, 0);
+  EXPECT_GT(again.iterations, 0);
+  EXPECT_LT(error(continued), 0.05 * loose);
+  EXPECT_LT(error(continued), 2 * restarted_error);
+  EXPECT_TRUE(continued.at_equilibrium());
+  EXPECT_EQ(continued.field_rtol(), tight);
+
+  ElasticSystem settled(l, exact);
+  settled.assemble();
+  int checks = 0;
+  settled.set_tightening({tight, [] { return true; }, [&] { return ++checks == 2; }, 3});
+  const SolveReport early = settled.solve(top);
+  EXPECT_TRUE(early.tightened);
+  EXPECT_TRUE(early.ties_settled);
+  EXPECT_EQ(early.tightened_iterations, 3);
+  EXPECT_TRUE(settled.at_equilibrium());
+  EXPECT_TRUE(settled.ties_settled());
+  EXPECT_EQ(settled.field_rtol(), settled.rtol());
+  settled.rescale(2 * top);
+  EXPECT_FALSE(settled.ties_settled());
+
+  ElasticSystem unasked(l, exact);
+  unasked.assemble();
+  unasked.set_tightening({tight, [] { return false; }});
+  const SolveReport plain = unasked.solve(top);
+  EXPECT_FALSE(plain.tightened);
+  EXPECT_EQ(plain.iterations, first.iterations);
+  EXPECT_EQ(unasked.field_rtol(), unasked.rtol());
+}
+
 // A solve that stops once the batch is decided (from the affine initial
 // guess, so CG has work to do) breaks the bonds the converged field breaks,
 // in fewer iterations; its state is no equilibrium until a full solve.

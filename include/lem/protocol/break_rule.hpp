@@ -83,6 +83,22 @@ enum class FieldDecision {
   holds,      // no bond critical, none within its error of its level
 };
 
+/// The error left in a converging solve's forces, from the largest change
+/// of any force between checks a few CG iterations apart: while that change
+/// E shrinks by a factor rho < 1 per check, what is left of any force's
+/// error is at most the rest of the series, E rho / (1 - rho) (each later
+/// change is at most the largest).
+class ErrorTail {
+ public:
+  /// The factor g >= 1 for which g E bounds the error left after a check
+  /// whose change is E = `change`; 0 while the changes do not shrink.
+  double next(double change);
+  void restart() { earlier_ = 0; }
+
+ private:
+  double earlier_ = 0;  // E of the check before, 0: none yet
+};
+
 class CriticalBonds {
  public:
   /// Collective (the force floor is a global mean of the thresholds).
@@ -97,6 +113,10 @@ class CriticalBonds {
 
   /// Whether some bond is in doubt (in_doubt).  Collective.
   bool in_doubt(const std::vector<double>& tensions) const;
+  /// Whether every bond in doubt is farther than `error` from its level:
+  /// a field whose forces are within `error` of the converged ones then
+  /// decides them as the converged field would.  Collective.
+  bool doubts_decided(const std::vector<double>& tensions, double error) const;
 
   /// The error bound of every force of an unfinished field: `safety` times
   /// the largest change of any force since the `earlier` field (the check

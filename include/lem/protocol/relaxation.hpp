@@ -67,7 +67,9 @@ constexpr double kClosingStressTolerance = 1e-6;
 class Relaxation {
  public:
   explicit Relaxation(const RelaxationParts& parts);
-  virtual ~Relaxation() = default;
+  virtual ~Relaxation();
+  Relaxation(const Relaxation&) = delete;
+  Relaxation& operator=(const Relaxation&) = delete;
   /// Starting from the field at `top_displacement` (an equilibrium, or a
   /// decided field with its check field), break and relax until no bond is
   /// critical in the global field, the faces separate, or
@@ -143,6 +145,11 @@ class Relaxation {
     std::vector<double> tensions;
     std::int64_t solves = -1;
   } decided_;
+  /// Tightening::settled of the near-ties: whether the certificate of the
+  /// decided solves (ErrorTail) puts every bond in doubt beyond its error.
+  bool ties_settled();
+  std::vector<double> tie_check_;  // the forces at the last check
+  ErrorTail tie_tail_;
   PieceFinder pieces_;
 };
 

@@ -22,9 +22,10 @@ struct FractureTally {
   std::int64_t fallback_solves = 0;  // multigrid failed, Jacobi-CG solved (ElasticSystem)
   std::int64_t rupture_steps = 0;    // steps with at least one rupture
   std::int64_t relaxation_cycles = 0;
-  std::int64_t early_stops = 0;    // relaxation solves ended once the batch was decided
-  std::int64_t decided_steps = 0;  // load steps that ended on a decided field (no equilibrium)
-  std::int64_t tie_solves = 0;     // re-solves to -fracture_tie_rtol for bonds in doubt
+  std::int64_t early_stops = 0;     // relaxation solves ended once the batch was decided
+  std::int64_t decided_steps = 0;   // load steps that ended on a decided field (no equilibrium)
+  std::int64_t tie_solves = 0;      // solves taken on to -fracture_tie_rtol for bonds in doubt
+  std::int64_t tie_iterations = 0;  // their CG iterations after -ksp_rtol
   std::array<std::int64_t, kPhaseCount> broken{};  // per phase
   std::int64_t detached_bonds = 0, pinned_nodes = 0;
   std::int64_t pieces = 1;     // connected pieces of unpinned nodes

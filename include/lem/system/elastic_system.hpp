@@ -19,6 +19,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace lem {
@@ -42,6 +43,24 @@ struct SolveReport {
   bool preconditioner_built = false;  // this solve (re)built the preconditioner
   bool used_fallback = false;         // multigrid failed twice; CG + Jacobi (-fallback_*) solved
   bool stopped_early = false;         // an EarlyStop test ended the solve before -ksp_rtol
+  bool tightened = false;             // went on from -ksp_rtol for near-ties (Tightening)
+  int tightened_iterations = 0;       // of `iterations`, those after that point
+  bool ties_settled = false;          // ... and ended when Tightening::settled said so
+};
+
+/// A tighter tolerance that a CG solve may go on to once it meets
+/// -ksp_rtol, in the same Krylov space: `wanted()`, asked at that point
+/// with the iterate current (ghosts included), says whether this field
+/// needs it.  Then, if set, `settled()` is asked at that point and every
+/// `interval` iterations after it, and true ends the solve before `rtol`
+/// (the caller has decided what it needed).  A CG restarted from the
+/// converged field must find the slow modes again.  Collective: every rank
+/// must return the same answers.
+struct Tightening {
+  double rtol = 0;
+  std::function<bool()> wanted;
+  std::function<bool()> settled = {};
+  int interval = 4;
 };
 
 /// A test that may end a CG solve before -ksp_rtol: every `interval`
@@ -134,6 +153,17 @@ class ElasticSystem {
   SolveReport solve_to(double rtol, double top_displacement);
   /// -ksp_rtol.
   double rtol() const;
+  /// Every later solve that meets -ksp_rtol (above `t.rtol`) asks
+  /// `t.wanted()` and, if so, goes on to `t.rtol` (SolveReport::tightened).
+  /// An empty `t.wanted` removes it.
+  void set_tightening(Tightening t) { tightening_ = std::move(t); }
+  /// The relative tolerance the field meets: that of the solve that made
+  /// it, or the Tightening's if it went on to it (infinity when not
+  /// at_equilibrium()).
+  double field_rtol() const { return field_rtol_; }
+  /// Whether the last solve went on past -ksp_rtol until Tightening::
+  /// settled() said so (false again once the field is scaled or replaced).
+  bool ties_settled() const { return ties_settled_; }
 
   /// Keep the current preconditioner for later solves even when K changes
   /// (it is built anyway by the first solve).  rebuild_preconditioner() makes
@@ -240,6 +270,9 @@ class ElasticSystem {
   bool pc_stale_ = false;                      // the next solve must build a fresh preconditioner
   bool pc_ready_ = false;                      // a preconditioner has been built
   bool tighter_solve_ = false;                 // in solve_to: -log_view stage "Solve, tighter rtol"
+  Tightening tightening_;                      // set_tightening
+  double field_rtol_ = 0;                      // field_rtol()
+  bool ties_settled_ = false;                  // ties_settled()
   std::int64_t solves_ = 0;                    // by this process (test hook LEM_FAULT_SOLVE_FAIL)
   std::vector<std::int64_t> spectrum_solves_;  // -solver_spectrum_solves
   std::string spectrum_prefix_;
