@@ -41,7 +41,7 @@ from .paper import paper_values
 from .plotting import paper_mark, plt, save_figure
 from .results import STUDY_COLUMNS
 from .study_combine import physics
-from .study_data import DataFolder, curve_of
+from .study_data import DataFolder, curve_of, open_data_folder
 from .study_plots import (COLUMNS, E_P, RATIO, RHO, beta_panel, damage_curve_picks,
                           damage_curves, damage_map_panel, damage_panel, finish, modulus_panel,
                           point_colors, replicated, scaling_panel, strength_panel, values)
@@ -71,10 +71,7 @@ def read_folders(folders):
     per lattice and rho^m), kept {row id: the run's data}."""
     first, rows, kept, seen = None, [], {}, {}
     for folder in folders:
-        if not os.path.isfile(os.path.join(folder, "study.json")):
-            raise ToolError("%s is not a study data folder (no study.json)" % folder)
-        data = DataFolder(folder)
-        spec = data.spec()
+        data, spec = open_data_folder(folder)
         if first is None:
             first, reference = spec, folder
         for part, wanted in same_physics(first).items():

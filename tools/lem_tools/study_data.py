@@ -241,6 +241,14 @@ class DataFolder:
         return out
 
 
+def open_data_folder(folder):
+    """(DataFolder, its study as kept) of the data folder `folder`."""
+    if not os.path.isfile(os.path.join(folder, "study.json")):
+        raise DataError("%s is not a study data folder (no study.json)" % folder)
+    data = DataFolder(folder)
+    return data, data.spec()
+
+
 def node_stress_pdf(run_dir):
     """The pdf of s = sigma_zz^i / sigma_zz at the first equilibrium
     (elastic.h5), split into the nodes inside the box and on its faces as
