@@ -72,6 +72,16 @@ set(LEM_QUICK_BAD_INPUTS
   bad_input_fallback_preonly bad_input_options_file_missing bad_input_options_file_loop
   ranks_error_alone ranks_error_petsc bad_checkpoint_crafted bad_input_not_regular_files)
 
+# Quick tests that the sanitizer job (jobs/check-sanitizers.sh) leaves out,
+# labelled `unsanitized`: each one runs, with other options or data, code
+# that the quick tests named after '#' already run under the sanitizers,
+# and costs much more there (docs/developer/testing.md, "Sanitizers").
+# Only quick tests may be named here, and no GoogleTest program (test_*):
+# those always run sanitized.
+set(LEM_UNSANITIZED_TESTS
+  fracture_fidelity_mini          # fracture_spec_mini (the main job), fracture_ranks (decided solves)
+)
+
 # Group labels by the test's name, for the tests that have none yet (the
 # GoogleTest programs get their module's name from lem_add_test, e.g.
 # `system`): `ctest -L <group>` runs one group.
@@ -105,16 +115,24 @@ function(lem_label_tests)
     if(group STREQUAL "bad_input" AND NOT test IN_LIST LEM_QUICK_BAD_INPUTS)
       set(labels long)
     endif()
+    if(test IN_LIST LEM_UNSANITIZED_TESTS)
+      if(NOT labels STREQUAL "quick" OR test MATCHES "^test_")
+        message(FATAL_ERROR "tests/tiers.cmake: '${test}' of LEM_UNSANITIZED_TESTS is long or a "
+                            "GoogleTest program: the sanitizer job runs quick tests only, and "
+                            "every GoogleTest program")
+      endif()
+      list(APPEND labels unsanitized)
+    endif()
     set_tests_properties(${test} PROPERTIES LABELS "${labels};${group}")
   endforeach()
   set_property(GLOBAL APPEND PROPERTY LEM_LABELLED_TESTS ${tests})
 endfunction()
 
-# Called once after both directories are labelled: every name of the long
-# list is a real test.
+# Called once after both directories are labelled: every name of the three
+# lists is a real test.
 function(lem_check_long_tests)
   get_property(labelled GLOBAL PROPERTY LEM_LABELLED_TESTS)
-  foreach(list LEM_LONG_TESTS LEM_QUICK_BAD_INPUTS)
+  foreach(list LEM_LONG_TESTS LEM_QUICK_BAD_INPUTS LEM_UNSANITIZED_TESTS)
     foreach(test ${${list}})
       if(NOT test IN_LIST labelled)
         message(FATAL_ERROR "tests/tiers.cmake: '${test}' of ${list} is not a test")
