@@ -399,9 +399,8 @@ decided_closing)
   # to complete failure, which is the case here (at least one must).
   root="$(cd "$(dirname "$0")/../.." && pwd)"
   # shellcheck disable=SC2206
-  case_args=(-options_file "$root/jobs/main.opts" -sample_file "$root/meshes/mini.h5"
-             -fracture_calibrate false -fracture_sigma_unit 0.01929542312
-             -fracture_modulus_unit 7.604615685 -output_fields false ${LEM_CASE_ARGS:-})
+  # LEM_CASE_ARGS (tests/CMakeLists.txt): the mini sample and its units.
+  case_args=(-options_file "$root/jobs/main.opts" -output_fields false ${LEM_CASE_ARGS:-})
   run 2 "$work/closed" -fracture_decided_closing false || fail "closed: $(tail -3 "$work/closed/log")"
   run 2 "$work/decided" -fracture_decided_closing true || fail "decided: $(tail -3 "$work/decided/log")"
   # A run with no step ended on a decided field does not exercise the
