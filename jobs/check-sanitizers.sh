@@ -1,9 +1,10 @@
 #!/bin/bash
-# The quick tier once more, built with AddressSanitizer and
+# Part of the quick tier once more, built with AddressSanitizer and
 # UndefinedBehaviorSanitizer (cmake --preset sanitize: -DLEM_SANITIZE=ON at
-# -O1 -g1, in build-asan/), but for the tests labelled `unsanitized`
-# (tests/tiers.cmake): docs/developer/testing.md, "Sanitizers".
-#   bash jobs/check-sanitizers.sh            build, then ctest -L quick -LE unsanitized
+# -O1 -g1, in build-asan/): the tests labelled `sanitized`, every quick
+# GoogleTest program and the driver tests of LEM_SANITIZED_TESTS
+# (tests/tiers.cmake; docs/developer/testing.md, "Sanitizers").
+#   bash jobs/check-sanitizers.sh            build, then ctest -L sanitized
 #   bash jobs/check-sanitizers.sh -R NAME    other arguments go to ctest
 # Any report fails the job, also one from a test that expects its program
 # to fail (a bad-input case): the reports go to files, counted at the end.
@@ -27,7 +28,7 @@ export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1:exitcode=86:log_path=$r
 status=0
 # --timeout: a test without a TIMEOUT of its own that hangs (a sanitized MPI
 # program stuck in its end) fails after 5 min instead of ctest's 25.
-(cd "$build" && ctest --output-on-failure -j 2 --timeout 300 -L quick -LE unsanitized "$@") ||
+(cd "$build" && ctest --output-on-failure -j 2 --timeout 300 -L sanitized "$@") ||
   status=$?
 if compgen -G "$reports/*" > /dev/null; then
   echo "check-sanitizers.sh: sanitizer reports (also from tests that passed):" >&2
@@ -35,4 +36,4 @@ if compgen -G "$reports/*" > /dev/null; then
   exit 1
 fi
 [ "$status" -eq 0 ] || { echo "check-sanitizers.sh: ctest failed (exit $status)" >&2; exit "$status"; }
-echo "check-sanitizers.sh: the quick tier passed under ASan and UBSan, no report"
+echo "check-sanitizers.sh: the sanitized tests passed under ASan and UBSan, no report"

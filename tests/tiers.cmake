@@ -72,14 +72,24 @@ set(LEM_QUICK_BAD_INPUTS
   bad_input_fallback_preonly bad_input_options_file_missing bad_input_options_file_loop
   ranks_error_alone ranks_error_petsc bad_checkpoint_crafted bad_input_not_regular_files)
 
-# Quick tests that the sanitizer job (jobs/check-sanitizers.sh) leaves out,
-# labelled `unsanitized`: each one runs, with other options or data, code
-# that the quick tests named after '#' already run under the sanitizers,
-# and costs much more there (docs/developer/testing.md, "Sanitizers").
-# Only quick tests may be named here, and no GoogleTest program (test_*):
-# those always run sanitized.
-set(LEM_UNSANITIZED_TESTS
-  fracture_fidelity_mini          # fracture_spec_mini (the main job), fracture_ranks (decided solves)
+# The tests the sanitizer job (jobs/check-sanitizers.sh) runs, labelled
+# `sanitized`: every GoogleTest program of the quick tier (test_*: the
+# library's own checks) and the driver tests named here, which run each
+# program and each path the units do not reach once: 1 against 2 ranks,
+# checkpoints written, read and refused, a failed solve, the relaxation
+# schemes, the results kept whole on a rerun, the readers of bad input
+# (docs/developer/testing.md, "Sanitizers").  The other driver tests run
+# the same code with other options or data; under the sanitizers each
+# costs 3 to 10 times its time, and they cost most of the job.
+# Only quick tests that are not GoogleTest programs may be named here.
+set(LEM_SANITIZED_TESTS
+  fracture_ranks fracture_restart_kill fracture_restart_ranks fracture_restart_kill_local
+  fracture_solver_failure fracture_spec_mini fracture_fcc_np1 fracture_fcc_np2
+  fracture_warnings_default bad_checkpoint_crafted outputs_rerun
+  sample_driver sample_driver_cells tension_driver_np2 stiffness_driver_np2
+  convergence_driver_np2 help_stops_before_work bad_input_misspelt_option
+  bad_input_sample_file_not_hdf5 bad_input_sample_nan_coordinate
+  bad_input_sample_damaged_2_ranks bad_input_options_file_loop ranks_error_petsc
 )
 
 # Group labels by the test's name, for the tests that have none yet (the
@@ -115,13 +125,15 @@ function(lem_label_tests)
     if(group STREQUAL "bad_input" AND NOT test IN_LIST LEM_QUICK_BAD_INPUTS)
       set(labels long)
     endif()
-    if(test IN_LIST LEM_UNSANITIZED_TESTS)
+    if(test IN_LIST LEM_SANITIZED_TESTS)
       if(NOT labels STREQUAL "quick" OR test MATCHES "^test_")
-        message(FATAL_ERROR "tests/tiers.cmake: '${test}' of LEM_UNSANITIZED_TESTS is long or a "
+        message(FATAL_ERROR "tests/tiers.cmake: '${test}' of LEM_SANITIZED_TESTS is long or a "
                             "GoogleTest program: the sanitizer job runs quick tests only, and "
-                            "every GoogleTest program")
+                            "every quick GoogleTest program without being named")
       endif()
-      list(APPEND labels unsanitized)
+      list(APPEND labels sanitized)
+    elseif(labels STREQUAL "quick" AND test MATCHES "^test_")
+      list(APPEND labels sanitized)
     endif()
     set_tests_properties(${test} PROPERTIES LABELS "${labels};${group}")
   endforeach()
@@ -132,7 +144,7 @@ endfunction()
 # lists is a real test.
 function(lem_check_long_tests)
   get_property(labelled GLOBAL PROPERTY LEM_LABELLED_TESTS)
-  foreach(list LEM_LONG_TESTS LEM_QUICK_BAD_INPUTS LEM_UNSANITIZED_TESTS)
+  foreach(list LEM_LONG_TESTS LEM_QUICK_BAD_INPUTS LEM_SANITIZED_TESTS)
     foreach(test ${${list}})
       if(NOT test IN_LIST labelled)
         message(FATAL_ERROR "tests/tiers.cmake: '${test}' of ${list} is not a test")

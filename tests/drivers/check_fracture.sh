@@ -46,7 +46,8 @@
 #   parallel_setup  the main job with the sample set up in parallel
 #                   (-sample_parallel) on 2 and 3 ranks breaks the bonds the
 #                   serial set-up breaks on 2, in the same order (calibration
-#                   and sample)
+#                   and sample); LEM_SERIAL_SETUP_RUN names a finished serial
+#                   run to compare with instead of running one
 #   deflation       shipped mini sample: -solver_particle_deflation, stopped on
 #                   2 ranks and resumed on 1, breaks the bonds the plain
 #                   multigrid breaks on 2, in the same order
@@ -347,7 +348,17 @@ ranks_sample)
   ;;
 parallel_setup)
   root="$(cd "$(dirname "$0")/../.." && pwd)"
-  for case in serial:2: parallel:2:-sample_parallel parallel:3:-sample_parallel; do
+  # The serial set-up on 2 ranks is the default main job: fracture_ranks_mini's
+  # 2-rank run when LEM_SERIAL_SETUP_RUN names it (tests/CMakeLists.txt).
+  cases="parallel:2:-sample_parallel parallel:3:-sample_parallel"
+  if [ -n "${LEM_SERIAL_SETUP_RUN:-}" ]; then
+    [ -f "$LEM_SERIAL_SETUP_RUN/summary.json" ] ||
+      fail "LEM_SERIAL_SETUP_RUN=$LEM_SERIAL_SETUP_RUN holds no finished run"
+    rm -rf "$work/serial2" && ln -s "$LEM_SERIAL_SETUP_RUN" "$work/serial2"
+  else
+    cases="serial:2: $cases"
+  fi
+  for case in $cases; do
     IFS=: read -r name n extra <<< "$case"
     dir="$work/$name$n"
     mkdir -p "$dir"

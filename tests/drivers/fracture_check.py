@@ -13,11 +13,12 @@
   fracture_check.py curves A B TOL
       rows of A's curve found in B: same broken counts, stresses within TOL
       of B's peak (used by check_fracture.sh).
-  fracture_check.py ruptures A B TOL [--pre-peak TOL2]
+  fracture_check.py ruptures A B TOL [--pre-peak TOL2] [--parts P...]
       runs A and B break the same bonds in the same order (step, cycle, bond
       id of broken.csv), naming the first rupture that differs, and their
       curves agree within TOL of the peak as functions of the strain (their
-      evaluated steps may differ), within TOL2 up to the peak.
+      evaluated steps may differ), within TOL2 up to the peak; with --parts,
+      the subfolders P of A and B in turn (calibration .).
   fracture_check.py spec --run "CMD" --dir D [--energy-bound B] -- args
       runs CMD with args (a sample file's run with its calibration) and checks
       its outputs against the sample file and docs/model/fracture.md: one a
@@ -359,6 +360,14 @@ def ruptures(a):
                  f"or {a.tol:g} in all")
 
 
+def ruptures_of_parts(a):
+    """ruptures() on each of the --parts of A and B (a run and its calibration)."""
+    top_a, top_b = a.a, a.b
+    for part in a.parts:
+        a.a, a.b = os.path.join(top_a, part), os.path.join(top_b, part)
+        ruptures(a)
+
+
 # ---------------------------------------------------------------- spec
 def option_values(args):
     """-name value pairs of a command line."""
@@ -475,7 +484,9 @@ def main():
     q.add_argument("b")
     q.add_argument("tol", type=float)
     q.add_argument("--pre-peak", type=float, default=math.inf)
-    q.set_defaults(func=ruptures)
+    q.add_argument("--parts", nargs="+", default=["."],
+                   help="subfolders of A and B compared in turn (calibration .)")
+    q.set_defaults(func=ruptures_of_parts)
     q = sub.add_parser("spec")
     q.add_argument("--run", required=True)
     q.add_argument("--dir", required=True)
