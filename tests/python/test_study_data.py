@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from conftest import TOOLS, write_curve, write_manifest, write_study_file
-from lem_tools import analysis, study, study_data
+from lem_tools import analysis, convergence_table, study, study_data
 from lem_tools.study import Study
 
 ROOT = os.path.dirname(TOOLS)
@@ -182,6 +182,12 @@ def test_a_resumed_study_runs_only_the_rows_its_data_lacks(tmp_path, programs, m
     told = capsys.readouterr().out
     assert re.search(r"%s +kept with sample crc32:\w+, the sample here is crc32:" % runs[3], told)
     assert "not started" not in told                # the samples of kept rows are not needed
+    # and gather's samples.csv describes them from their kept rows (a resumed
+    # study's plots against L_n once failed on their NaN)
+    described = {s["sample"]: s for s in convergence_table.sample_rows(Study(path, elsewhere, data=data))}
+    assert not os.path.exists(os.path.join(elsewhere, "samples", "rho_0.1300_summary.json"))
+    assert described["rho_0.1300"]["bonds"] == 6000
+    assert described["rho_0.1300"]["L_n"] == pytest.approx(6000 ** (-1 / 3))
 
 
 def test_strain_increment_sets_the_increment_of_each_lattice(tmp_path, programs, monkeypatch):

@@ -35,7 +35,9 @@ def panel(ax, results, quantity, label, level_l_n, spec):
     keys = sorted(k for k in results if k[0] == quantity)
     rhos = sorted({k[1] for k in keys})
     ratios = sorted({k[2] for k in keys if k[2] is not None})
-    right = max((e["L_n"] for k in keys for e in results[k]["levels"]), default=1.0)
+    # a level whose samples are not described (L_n NaN) sets no limit
+    right = max((e["L_n"] for k in keys for e in results[k]["levels"] if math.isfinite(e["L_n"])),
+                default=1.0)
     for i, key in enumerate(keys):
         r = results[key]
         color, marker, line = point_style(rhos, ratios, key[1], key[2])

@@ -82,7 +82,8 @@ def sample_rows(study):
     rows = []
     for sample in study.samples():
         lattice, rho = sample["lattice"], sample["rho_m"]
-        made = optional_json(os.path.join(study.out, "samples", sample["stem"] + "_summary.json"))
+        made = (optional_json(os.path.join(study.out, "samples", sample["stem"] + "_summary.json"))
+                or kept_sample(study, sample["stem"]))
         calibration = study.calibration(lattice) or {}
         bonds = number(made, "bonds")
         row = dict(lattice_columns(lattice), sample=sample["stem"], rho_m=rho,
@@ -99,6 +100,21 @@ def sample_rows(study):
             row["nu_%s" % contacts] = number(summary, "nu")
         rows.append(row)
     return rows
+
+
+def kept_sample(study, stem):
+    """What a row of the data folder keeps of sample `stem` (nodes, bonds,
+    rho_m, rho_v), for a sample that was not made here because every run
+    on it is kept there; {} when none is."""
+    if study.data is None:
+        return {}
+    for run in study.runs():
+        if study.sample_stem(study.lattice_of(run), run["rho_m"]) != stem:
+            continue
+        path = study.data.run_path(run["id"])
+        if os.path.exists(path):
+            return read_json(path).get("sample") or {}
+    return {}
 
 
 def run_axis_columns(study, run, samples):
