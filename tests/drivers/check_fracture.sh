@@ -46,8 +46,8 @@
 #   parallel_setup  the main job with the sample set up in parallel
 #                   (-sample_parallel) on 2 and 3 ranks breaks the bonds the
 #                   serial set-up breaks on 2, in the same order (calibration
-#                   and sample); LEM_SERIAL_SETUP_RUN names a finished serial
-#                   run to compare with instead of running one
+#                   and sample); LEM_SERIAL_SETUP_RUN names that serial run
+#                   (the 2-rank run of ranks_mini)
 #   deflation       shipped mini sample: -solver_particle_deflation, stopped on
 #                   2 ranks and resumed on 1, breaks the bonds the plain
 #                   multigrid breaks on 2, in the same order
@@ -305,11 +305,8 @@ ranks_mini)
        -output_dir "$work/np$n" -fracture_calibration_file "$work/np$n.calibration.txt" \
        ${LEM_CASE_ARGS:-}) > "$work/np$n.log" 2>&1 || fail "$n-rank run: $(tail -3 "$work/np$n.log")"
   done
-  for part in calibration .; do
-    $py "$(dirname "$0")/fracture_check.py" ruptures "$work/np1/$part" "$work/np2/$part" 1e-5 \
-      --pre-peak 1e-6 ||
-      fail "1 and 2 ranks differ ($part)"
-  done
+  $py "$(dirname "$0")/fracture_check.py" ruptures "$work/np1" "$work/np2" 1e-5 --pre-peak 1e-6 \
+    --parts calibration . || fail "1 and 2 ranks differ"
   echo "ok: 1 and 2 ranks break the same $(summary "$work/np1" broken) bonds of the mini sample in the same order"
   ;;
 certificate)
@@ -349,16 +346,11 @@ ranks_sample)
 parallel_setup)
   root="$(cd "$(dirname "$0")/../.." && pwd)"
   # The serial set-up on 2 ranks is the default main job: fracture_ranks_mini's
-  # 2-rank run when LEM_SERIAL_SETUP_RUN names it (tests/CMakeLists.txt).
-  cases="parallel:2:-sample_parallel parallel:3:-sample_parallel"
-  if [ -n "${LEM_SERIAL_SETUP_RUN:-}" ]; then
-    [ -f "$LEM_SERIAL_SETUP_RUN/summary.json" ] ||
-      fail "LEM_SERIAL_SETUP_RUN=$LEM_SERIAL_SETUP_RUN holds no finished run"
-    rm -rf "$work/serial2" && ln -s "$LEM_SERIAL_SETUP_RUN" "$work/serial2"
-  else
-    cases="serial:2: $cases"
-  fi
-  for case in $cases; do
+  # 2-rank run, named by LEM_SERIAL_SETUP_RUN (tests/CMakeLists.txt).
+  [ -f "${LEM_SERIAL_SETUP_RUN:-}/summary.json" ] ||
+    fail "LEM_SERIAL_SETUP_RUN='${LEM_SERIAL_SETUP_RUN:-}' names no finished run of the main job"
+  ln -s "$LEM_SERIAL_SETUP_RUN" "$work/serial2"
+  for case in parallel:2:-sample_parallel parallel:3:-sample_parallel; do
     IFS=: read -r name n extra <<< "$case"
     dir="$work/$name$n"
     mkdir -p "$dir"
