@@ -70,7 +70,7 @@ set(LEM_QUICK_BAD_INPUTS
   bad_input_no_value_fracture bad_input_no_value_pack bad_input_no_value_stiffness
   bad_input_no_value_convergence bad_input_no_value_bench bad_input_petsc_real_not_a_number
   bad_input_fallback_preonly bad_input_options_file_missing bad_input_options_file_loop
-  ranks_error_alone ranks_error_petsc bad_checkpoint_crafted bad_input_not_regular_files)
+  ranks_error_alone ranks_error_petsc ranks_error_petsc_in_solve bad_checkpoint_crafted bad_input_not_regular_files)
 
 # The tests the sanitizer job (jobs/check-sanitizers.sh) runs, labelled
 # `sanitized`: every GoogleTest program of the quick tier (test_*: the

@@ -500,7 +500,13 @@ SolveReport ElasticSystem::attempt_solve(const EarlyStop* early) {
   convergence_->tightening = nullptr;
   if (ritz_ && !solved) ritz_->learn();
   if (convergence_->error) std::rethrow_exception(convergence_->error);
-  if (solved) throw PetscFailure("KSPSolve(ksp_, b_, u_)", solved);
+  if (solved) {
+    // A PETSc error inside KSPSolve leaves the solver mid-cycle: destroying
+    // it as the exception unwinds can crash before the message is shown, so
+    // it is leaked (the run ends on this error).
+    ksp_.release();
+    throw PetscFailure("KSPSolve(ksp_, b_, u_)", solved);
+  }
   report.stopped_early = convergence_->stopped;
   solve_stage.pop();
   report.solve_seconds = MPI_Wtime() - t0;

@@ -39,6 +39,9 @@ class PetscHandle {
     reset();
     return &object_;
   }
+  /// Gives up ownership without destroying: for an object that a failed
+  /// PETSc call left half-way, which destroying could crash on.
+  Object release() { return std::exchange(object_, nullptr); }
   void reset() {
     if (object_ != nullptr) destroy(&object_);  // sets object_ to null
     object_ = nullptr;
