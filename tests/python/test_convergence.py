@@ -189,7 +189,8 @@ def test_study_files_without_axes_keep_their_hash():
                  "strength-516-local.yaml", "strength-516-pm-local.yaml",
                  "strength-516-low-local.yaml", "strength-516-low-5000-local.yaml",
                  "strength-516-pm-5000-local.yaml", "strength-516-replicates-local.yaml",
-                 "paper-64.yaml", "paper-64-packings.yaml", "tiny-grid.yaml"):
+                 "paper-64.yaml", "paper-64-packings.yaml", "paper-516-line.yaml",
+                 "tiny-grid.yaml"):
         assert Study(os.path.join(root, name), "unused").runs()
 
 
