@@ -79,9 +79,7 @@ PC multigrid(KSP ksp) {
 // Rows and nonzeros of each multigrid level, finest first (PCMG/PCGAMG only).
 void print_levels(KSP ksp) {
   PC pc = multigrid(ksp);
-  PetscBool mg = PETSC_FALSE;
-  LEM_PETSC(PetscObjectTypeCompareAny(reinterpret_cast<PetscObject>(pc), &mg, PCGAMG, PCMG, ""));
-  if (!mg) return;
+  if (!SingleCycle::can_wrap(pc)) return;
   PetscInt levels = 0;
   LEM_PETSC(PCMGGetLevels(pc, &levels));
   double fine = 0, total = 0;

@@ -325,15 +325,12 @@ void account_levels(MPI_Comm comm, ElasticSystem& sys, DistributedLattice& latti
                     const SolverOptions& solver, Vec b, double delta, std::int64_t repeat) {
   const KSP ksp = sys.ksp();
   PC pc;
-  PetscBool multigrid = PETSC_FALSE;
   LEM_PETSC(KSPGetPC(ksp, &pc));
-  LEM_PETSC(PetscObjectTypeCompareAny(reinterpret_cast<PetscObject>(pc), &multigrid, PCGAMG, PCMG,
-                                      PCSHELL, ""));
-  if (!multigrid) {  // the two cycle precisions exist for PETSc's own multigrid only
+  SingleCycle* cycle = SingleCycle::of(ksp);
+  if (!cycle && !SingleCycle::can_wrap(pc)) {  // the cycle walks PETSc's own multigrid only
     PetscPrintf(comm, "levels: not accounted (-pc_type is not gamg or mg)\n");
     return;
   }
-  SingleCycle* cycle = SingleCycle::of(ksp);
   std::unique_ptr<SingleCycle> added;
   if (!cycle) {
     added =

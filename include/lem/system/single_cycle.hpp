@@ -35,6 +35,8 @@
 
 namespace lem {
 
+struct FloatBondOperator;  // float_operators.hpp (the fine level in float)
+
 class SingleCycle {
  public:
   /// Wraps `ksp`'s current preconditioner (a GAMG or MG, kept as the inner
@@ -53,6 +55,9 @@ class SingleCycle {
 
   /// The object behind `ksp`'s preconditioner, or nullptr if it is none.
   static SingleCycle* of(KSP ksp);
+  /// Whether `pc` is PETSc's own multigrid (gamg or mg): the preconditioners
+  /// whose levels this class (and lem_bench's per-level accounting) walks.
+  static bool can_wrap(PC pc);
   /// The inner (double-precision) multigrid.
   PC inner() const { return inner_; }
 
@@ -76,7 +81,6 @@ class SingleCycle {
 
  private:
   struct Level;
-  struct FloatBonds;
   static PetscErrorCode shell_setup(PC pc);
   static PetscErrorCode shell_apply(PC pc, Vec b, Vec x);
   static void check_smoother_options();
@@ -91,7 +95,7 @@ class SingleCycle {
   bool single_ = true;
   int cycles_ = 2;                              // 1 V, 2 W
   std::vector<std::unique_ptr<Level>> levels_;  // coarsest first, as PCMG numbers them
-  std::unique_ptr<FloatBonds> fine_;
+  std::unique_ptr<FloatBondOperator> fine_;
   double applications_ = 0, apply_seconds_ = 0;
 };
 
