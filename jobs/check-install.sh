@@ -6,17 +6,24 @@
 # against the installed package (tests/install_consumer); the main job run
 # by the installed programs, which must break the same bonds at the same
 # strains as the build tree's programs; jobs/build.sh on a host without dpkg.
-# Usage: jobs/check-install.sh [WORK_DIR]   (needs build/ from jobs/build.sh)
+# Usage: jobs/check-install.sh [--build-only] [WORK_DIR]   (needs build/ from
+# jobs/build.sh).  --build-only stops after the second build (.ci/run starts
+# it beside the test tiers); a later run reuses that build and redoes the rest.
 # LEM_CHECK_PETSC_DIR, LEM_CHECK_PETSC_ARCH: the PETSc tree (Debian's).
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
+build_only=false
+if [ "${1:-}" = "--build-only" ]; then build_only=true; shift; fi
 work="$(realpath -m "${1:-$root/build/install-check}")"
 petsc_dir="${LEM_CHECK_PETSC_DIR:-/usr/lib/petscdir/petsc3.18}"
 petsc_arch="${LEM_CHECK_PETSC_ARCH:-x86_64-linux-gnu-real}"
 prefix="$work/prefix"
 fail() { echo "install-check: FAIL: $*" >&2; exit 1; }
 step() { echo "install-check: [${SECONDS} s] $*"; }
-rm -rf "$work"
+# Everything but the second build is redone; the build is incremental.
+if [ -d "$work" ]; then
+  find "$work" -mindepth 1 -maxdepth 1 ! -name build -exec rm -rf {} +
+fi
 mkdir -p "$work/no-pkgconfig" "$work/run"
 
 # PETSc only through PETSC_DIR/PETSC_ARCH: pkg-config searches an empty
@@ -40,6 +47,7 @@ step "build"
 cmake --build "$work/build" -j "$(nproc)" > "$work/build.log" 2>&1 ||
   { grep -E "error|Error" -A5 "$work/build.log" | head -60 >&2; fail "build"; }
 [ ! -e "$work/build/tests" ] || fail "tests built with LEM_BUILD_TESTS=OFF"
+$build_only && { step "built (--build-only)"; exit 0; }
 
 step "install into $prefix"
 cmake --install "$work/build" --prefix "$prefix" > "$work/install.log" 2>&1 ||

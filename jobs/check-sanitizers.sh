@@ -6,6 +6,8 @@
 # (tests/tiers.cmake; docs/developer/testing.md, "Sanitizers").
 #   bash jobs/check-sanitizers.sh            build, then ctest -L sanitized
 #   bash jobs/check-sanitizers.sh -R NAME    other arguments go to ctest
+#   bash jobs/check-sanitizers.sh --build-only   the build alone (.ci/run
+#                                             starts it beside the tiers)
 # Any report fails the job, also one from a test that expects its program
 # to fail (a bad-input case): the reports go to files, counted at the end.
 set -euo pipefail
@@ -17,6 +19,7 @@ mkdir -p "$build"
 (cd "$root" && cmake --preset sanitize) > "$log" 2>&1 || { tail -30 "$log" >&2; exit 1; }
 cmake --build "$build" -j "$(nproc)" >> "$log" 2>&1 ||
   { grep -E "error|Error" -A5 "$log" | head -60 >&2; exit 1; }
+[ "${1:-}" = "--build-only" ] && { echo "check-sanitizers.sh: built in $build"; exit 0; }
 reports="$build/sanitizer-reports"
 rm -rf "$reports" && mkdir -p "$reports"
 # Leaks are not checked: Open MPI and its plug-ins (PMIx, hwloc, libevent)
