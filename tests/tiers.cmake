@@ -101,7 +101,7 @@ set(LEM_TEST_GROUPS
   "^signal_:signals"
   "^fracture_warnings_:warnings"
   "^fracture_:fracture"
-  "^(tension_|sample_driver$|sample_driver_cells$|stiffness_driver|convergence_driver|results_readers$|study_|checker_):drivers"
+  "^(tension_|bench_driver_|sample_driver$|sample_driver_cells$|stiffness_driver|convergence_driver|results_readers$|study_|checker_):drivers"
   "^(layering|phase_names|options_reference|extension_|function_length):layout")
 
 function(lem_label_tests)
