@@ -1,7 +1,7 @@
 # Test tiers and groups (docs/developer/testing.md, "Tiers").  Every test gets one
 # tier label, `quick` or `long`, and one group label from its name.
 #   quick  what `bash jobs/test.sh` runs after every change: every module and
-#          every promise in at least one test, in about two minutes
+#          every promise in at least one test, in a few minutes
 #   long   the rest: the same promises on larger samples, every stop point,
 #          every kill point; `bash jobs/test.sh --all` and CI run both tiers
 # lem_label_tests() labels the tests of the directory it is called in (a
