@@ -1,7 +1,8 @@
 #!/bin/bash
 # A job whose ranks fail must end within seconds with STATUS and one line
 # of stderr matching PATTERN (the error is reported once, whichever ranks
-# saw it).  Usage: check_rank_errors.sh STATUS PATTERN command [args...]
+# saw it); with STATUS 0, a short job that must succeed and say PATTERN once.
+# Usage: check_rank_errors.sh STATUS PATTERN command [args...]
 status="$1"; pattern="$2"; shift 2
 limit=10  # seconds: the 3 s grace of a rank failing alone, MPI start and teardown
 start=$(date +%s.%N)
