@@ -31,6 +31,7 @@ set(LEM_LONG_TESTS
   fracture_ranks_sample_tiny      # fracture_certificate
   fracture_ranks_sample_mini      # fracture_certificate, fracture_ranks_mini
   fracture_ranks_sample_tiny_soft_nodes # test_soft_node_deflation_np2, fracture_ranks_sample_tiny
+  fracture_damage_aggregates      # bad_input_damage_aggregates_wrapped (the option reaches GAMG; the split shows only after damage, 3 runs of the mini sample)
   fracture_no_whole_gathers       # test_checkpoint_file_np2, fracture_restart_ranks
   fracture_parallel_setup         # test_parallel_setup_np2, _np3
   fracture_spec_mini_parallel     # fracture_spec_mini, test_parallel_setup_np2 (ids and a of both set-ups)
@@ -65,6 +66,7 @@ set(LEM_QUICK_BAD_INPUTS
   bad_input_sample_matrix_fraction bad_input_sample_misspelt_option
   bad_input_fracture_negative_threshold bad_input_fracture_increment_unresolved
   bad_input_fracture_bad_rule bad_input_calibration_no_peak help_stops_before_work
+  bad_input_damage_aggregates_wrapped
   bad_input_integer_not_a_number bad_input_integer_wraps_32_bits bad_input_integer_with_fraction
   bad_input_flag_not_boolean bad_input_list_nan bad_input_ksp_type_typo bad_input_pc_option_typo
   bad_input_no_value_fracture bad_input_no_value_pack bad_input_no_value_stiffness

@@ -4,6 +4,7 @@
 #include "particle_deflation.hpp"
 #include "ritz_deflation.hpp"
 #include "soft_node_deflation.hpp"
+#include "damage_aggregation.hpp"
 #include "solver_defaults.hpp"
 #include "spectrum_probe.hpp"
 
@@ -131,6 +132,8 @@ ElasticSystem::ElasticSystem(DistributedLattice& lattice, const SolverOptions& o
     deflation_ = std::make_unique<ParticleDeflation>(lattice_, K_, ksp_);
   if (options.ritz_deflation > 0)
     ritz_ = std::make_unique<RitzDeflation>(K_, ksp_, options.ritz_deflation);
+  damage_aggregates_ = options.damage_aggregates;
+  mark_damage();  // refuses now a preconditioner it cannot reach
   spectrum_solves_ = options.spectrum_solves;
   spectrum_prefix_ = options.spectrum_prefix;
   install_convergence_test();
@@ -471,6 +474,7 @@ SolveReport ElasticSystem::attempt_solve(const EarlyStop* early) {
   double t0 = MPI_Wtime();
   const bool fresh = pc_stale_ || (operator_changed_ && !reuse_pc_);
   report.preconditioner_built = !pc_ready_ || fresh;
+  if (report.preconditioner_built) mark_damage();
   LogStageScope pc_stage(stages.pc_setup);
   if (pc_ready_ && fresh) {
     set_up_preconditioner();
@@ -560,7 +564,15 @@ void ElasticSystem::set_reuse_preconditioner(bool reuse) {
 
 void ElasticSystem::rebuild_preconditioner() { pc_stale_ = true; }
 
+void ElasticSystem::mark_damage() {
+  if (damage_aggregates_ <= 0) return;
+  PC pc;
+  LEM_PETSC(KSPGetPC(ksp_, &pc));
+  prepare_damage_aggregation(pc, lattice_, damage_aggregates_);
+}
+
 void ElasticSystem::build_preconditioner() {
+  mark_damage();
   LogStageScope stage(log_stages().pc_setup);
   set_up_preconditioner();
   stage.pop();

@@ -182,6 +182,14 @@ SolverOptions read_elastic_system_options(MPI_Comm comm) {
                "one coarse unknown per direction, solved exactly (docs/model/fracture.md); "
                "0: none",
                o.soft_node_deflation, 0.0, 0.5);
+    o.damage_aggregates = static_cast<int>(
+        g.integer("-solver_damage_aggregates",
+                  "Split GAMG's aggregates of the finest level near broken bonds into pieces one "
+                  "bond across, at every preconditioner build: 1 splits those holding a node of a "
+                  "broken bond (bare contacts, which have no strength, not counted), 2 also those "
+                  "one intact bond away, ...; the coarse level grows only near the cracks "
+                  "(docs/model/fracture.md); 0: GAMG's aggregates as they are",
+                  o.damage_aggregates, 0, 4));
     for (const double s : g.positive_reals(
              "-solver_spectrum_solves",
              "Diagnostic: at these "

@@ -112,6 +112,9 @@ struct SolverOptions {
   /// -solver_soft_node_deflation: deflate a node's direction whose
   /// diagonal-scaled block eigenvalue is below this (0: none).
   double soft_node_deflation = 0;
+  /// -solver_damage_aggregates: layers of nodes around broken bonds whose
+  /// GAMG aggregates are split (src/system/damage_aggregation.hpp; 0: none).
+  int damage_aggregates = 0;
   /// -solver_spectrum_solves / -solver_spectrum_prefix: the solves (counted
   /// from 1 by the process) at which the spectrum probe runs, and where it
   /// writes (a diagnostic; src/system/spectrum_probe.hpp).
@@ -243,6 +246,7 @@ class ElasticSystem {
   struct ConvergenceTest;
   void install_convergence_test();
   void set_up_preconditioner();  // from the current K, now
+  void mark_damage();            // -solver_damage_aggregates, before a build
   void create_fallback();
   SolveReport fallback_solve();
   Point local_displacement(const PetscScalar* u_local, int node) const;
@@ -267,6 +271,7 @@ class ElasticSystem {
   bool operator_changed_ = true;
   bool equilibrium_ = false;                   // u_ solves K u = b to -ksp_rtol (not stopped early)
   bool reuse_pc_ = false;                      // keep the preconditioner when K changes
+  int damage_aggregates_ = 0;                  // -solver_damage_aggregates
   bool pc_stale_ = false;                      // the next solve must build a fresh preconditioner
   bool pc_ready_ = false;                      // a preconditioner has been built
   bool tighter_solve_ = false;                 // in solve_to: -log_view stage "Solve, tighter rtol"
