@@ -206,7 +206,9 @@ PetscErrorCode coarsen_near_damage(PC pc, Mat* graph, PetscCoarsenData** lists) 
 
 }  // namespace
 
-std::int64_t prepare_damage_aggregation(PC pc, const DistributedLattice& lattice, int layers) {
+void prepare_damage_aggregation(KSP ksp, const DistributedLattice& lattice, int layers) {
+  PC pc;
+  LEM_PETSC(KSPGetPC(ksp, &pc));
   PetscBool gamg = PETSC_FALSE;
   LEM_PETSC(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(pc), PCGAMG, &gamg));
   PC_GAMG* g = gamg ? gamg_of(pc) : nullptr;
@@ -241,7 +243,6 @@ std::int64_t prepare_damage_aggregation(PC pc, const DistributedLattice& lattice
     }
     near.swap(grown);
   }
-  std::int64_t marked = std::count(near.begin(), near.end(), 1);
   PetscContainer container;
   LEM_PETSC(PetscContainerCreate(PETSC_COMM_SELF, &container));
   LEM_PETSC(PetscContainerSetPointer(container, marks));
@@ -249,12 +250,9 @@ std::int64_t prepare_damage_aggregation(PC pc, const DistributedLattice& lattice
   LEM_PETSC(PetscObjectCompose(reinterpret_cast<PetscObject>(pc), kMarksName,
                                reinterpret_cast<PetscObject>(container)));
   LEM_PETSC(PetscContainerDestroy(&container));
-  std::int64_t total = 0;
-  MPI_Allreduce(&marked, &total, 1, MPI_INT64_T, MPI_SUM, lattice.comm);
-  return total;
 }
 #else
-std::int64_t prepare_damage_aggregation(PC, const DistributedLattice&, int) {
+void prepare_damage_aggregation(KSP, const DistributedLattice&, int) {
   throw InputError("option -solver_damage_aggregates needs PETSc 3.18 (it works inside GAMG's "
                    "coarsening, whose internals change between versions)");
 }

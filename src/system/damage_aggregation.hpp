@@ -15,16 +15,14 @@
 
 #include <petscksp.h>
 
-#include <cstdint>
-
 namespace lem {
 
-/// Before a build of `pc`: if it is GAMG with plain aggregation, mark the
-/// owned nodes that end a broken bond (stiffness 0, a strength above 0),
-/// and with `layers` > 1 those up to layers - 1 intact bonds from them, and
-/// make GAMG's coarsening of its finest level split the aggregates holding
-/// a marked node.  Returns the number of marked nodes on all ranks (0 for
-/// other PCs).
-std::int64_t prepare_damage_aggregation(PC pc, const DistributedLattice& lattice, int layers);
+/// Before a build of the KSP's preconditioner, which must be GAMG's own
+/// aggregation (an InputError otherwise, or with another PETSc than 3.18):
+/// mark the owned nodes that end a broken bond (stiffness 0, a strength
+/// above 0), and with `layers` > 1 those up to layers - 1 intact bonds from
+/// them, and make GAMG's coarsening of its finest level split the
+/// aggregates holding a marked node.
+void prepare_damage_aggregation(KSP ksp, const DistributedLattice& lattice, int layers);
 
 }  // namespace lem
