@@ -15,9 +15,9 @@ SPEC = {"name": "inc", "ranks": 2, "sample": {"sample_particles": 64}, "phases":
         "fracture": {"fracture_stop_fraction": 0.3}}
 
 
-def write_folder(path, increment, values, spec=SPEC):
+def write_folder(path, increment, values, spec=SPEC, rho_m=0.13):
     """A data folder of a study at `increment` with one row per (seed,
-    sigma_eff, broken_p) of `values`, at rho^m 0.13 and sigma^pm = sigma^p."""
+    sigma_eff, broken_p) of `values`, at `rho_m` and sigma^pm = sigma^p."""
     spec = json.loads(json.dumps(spec))
     if increment is not None:
         spec["fracture"]["fracture_increment"] = increment
@@ -26,7 +26,8 @@ def write_folder(path, increment, values, spec=SPEC):
     with open(os.path.join(path, "study.json"), "w") as f:
         json.dump(spec, f)
     for seed, sigma, broken_p in values:
-        run = {"id": "p%d_rho_0.1300_spm_1.0000" % seed, "rho_m": 0.13, "sigma_pm_ratio": 1.0}
+        run = {"id": "p%d_rho_%.4f_spm_1.0000" % (seed, rho_m), "rho_m": rho_m,
+               "sigma_pm_ratio": 1.0}
         row = {"sigma_eff_over_sigma_unit": sigma, "strain_at_peak": 4e-3, "n_b": 0.1,
                "broken_p": broken_p, "broken_m": 10, "broken_pp": 100, "broken_pm": None}
         data = {"format": FORMAT, "version": VERSION, "study_hash": spec["hash"], "run": run,
@@ -80,6 +81,21 @@ def test_studies_of_other_physics_or_without_the_reference_are_refused(tmp_path)
         increment_table.compare(increment_table.read_rows([str(x4)]), 3e-4)
     with pytest.raises(ToolError, match="not a study data folder"):
         increment_table.read_rows([str(tmp_path)])
+
+
+def test_a_point_without_its_reference_run_is_left_out_and_named(tmp_path, capsys):
+    # A study carried on in parts: rho^m 0.28 has its x4 run, not yet its x1.
+    x1 = write_folder(tmp_path / "x1", None, [(1, 0.4, 5)])
+    x4 = write_folder(tmp_path / "x4", 1.2e-3, [(1, 0.39, 5)])
+    x4b = write_folder(tmp_path / "x4b", 1.2e-3, [(1, 0.5, 5)], rho_m=0.28)
+    rows = increment_table.read_rows([str(x1), str(x4), str(x4b)])
+    table = increment_table.compare(rows, 3e-4)
+    assert list(table) == [(0.13, 1.0)]
+    assert table[(0.13, 1.0)][1.2e-3]["sigma_eff_over_sigma_unit"]["change"] == pytest.approx(-0.01)
+    assert increment_table.without_reference(rows, table) == [(0.28, 1.0)]
+    out = tmp_path / "out"
+    assert increment_table.main([str(x1), str(x4), str(x4b), "--out", str(out)]) == 0
+    assert "left out: rho^m 0.28" in capsys.readouterr().out
 
 
 def test_the_command_writes_its_table_and_figure(tmp_path, capsys):
