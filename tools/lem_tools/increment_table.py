@@ -5,7 +5,8 @@ increment").
 Reads the data folders (docs/data/<study>/) of studies whose physics is the
 same but for `fracture.fracture_increment`, and compares every run with the
 run of the same sample (pack seed, lattice seed, rho^m, sigma^pm) at the
-reference increment (the paper's 3e-4 a, or --reference).  Prints a table
+reference increment (the paper's 3e-4 a, or --reference); a point with
+no run at the reference increment is left out and named.  Prints a table
 per rho^m with, for each increment, the mean and standard deviation over
 the samples of sigma_eff, the strain at the peak, n_b after failure and the
 broken bonds per phase, and the mean change from the reference with the
