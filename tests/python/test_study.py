@@ -256,6 +256,24 @@ def test_index_out_of_range(made_study):
         made_study.run_all(index=4)
 
 
+def test_index_picks_one_run_of_all_and_is_refused_elsewhere(tmp_path, monkeypatch, capsys):
+    """`all --index I` makes what the study lacks, then runs only run I; a
+    command without samples, lattices or runs to pick from refuses it."""
+    calls = []
+    monkeypatch.setattr(Study, "make_samples", lambda self, index=None: calls.append(("s", index)))
+    monkeypatch.setattr(Study, "calibrate", lambda self, index=None: calls.append(("c", index)) or 0)
+    monkeypatch.setattr(Study, "run_all", lambda self, index=None: calls.append(("r", index)) or 0)
+    monkeypatch.setattr(study, "gather", lambda s: 0)
+    monkeypatch.setattr(study, "launcher", lambda ranks: ["mpirun"])
+    args = [study_file(tmp_path), str(tmp_path / "out"), "--index", "3"]
+    assert study.main(["all"] + args) == 0
+    assert calls == [("s", None), ("c", None), ("r", 3)]
+    for command in ("plan", "status", "gather"):
+        assert study.main([command] + args) == 1
+        assert "--index picks a sample, lattice or run; `%s` takes none" % command \
+            in capsys.readouterr().err
+
+
 def test_execute_hands_sigterm_on_as_sigusr1(tmp_path):
     """Open MPI's mpirun kills the ranks on SIGTERM and passes SIGUSR1 on, so
     the study turns a SIGTERM it gets into SIGUSR1 for its child."""

@@ -13,7 +13,8 @@ Commands (each skips what is already complete, so any can be rerun):
              with a bond axis or replicates also the convergence table and figures
   status     complete / failed / pending runs (and elastic pulls); missing
              samples and calibrations with their logs' last error
-  all        plan, samples, calibrate, run and gather on this machine
+  all        plan, samples, calibrate, run and gather on this machine; --index I
+             runs only run I (after every sample and calibration the study lacks)
 
 Study file keys (YAML; anything else is an error):
   name               label of the study
@@ -735,6 +736,8 @@ def do(args):
             raise StudyError("--ranks %d is not a positive integer" % args.ranks)
         study.spec["ranks"] = args.ranks
     command, index = args.command, args.index
+    if index is not None and command not in ("samples", "calibrate", "run", "all"):
+        raise StudyError("--index picks a sample, lattice or run; `%s` takes none" % command)
     if command in ("calibrate", "run", "all"):
         launcher(study.spec["ranks"])  # a bad LEM_LAUNCHER stops before any work
     study.plan()
@@ -746,7 +749,7 @@ def do(args):
         if status == EXIT_INTERRUPTED:
             return status
     if command in ("run", "all"):
-        status = study.run_all(index if command == "run" else None)
+        status = study.run_all(index)
     if command == "status":
         counts = study.status()
         status = 0 if counts["complete"] == sum(counts.values()) else 1
@@ -784,7 +787,7 @@ def main(argv=None):
     arg_parser.add_argument("out", metavar="OUT_DIR", help="the study's output folder")
     arg_parser.add_argument("--index", type=int, metavar="I",
                             help="one sample (samples), one lattice (calibrate) or one run "
-                                 "(run) by its number")
+                                 "(run, all) by its number")
     arg_parser.add_argument("--ranks", type=int, metavar="N",
                             help="MPI ranks per run (default: the study's `ranks`)")
     arg_parser.add_argument("--bin", metavar="DIR",
