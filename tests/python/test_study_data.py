@@ -294,6 +294,18 @@ def test_the_paper_statements_are_drawn_on_its_figures(tiny_figures):
     (ax,) = figs["fig03"].axes
     x, _ = line(ax, "paper: peak")
     assert x[0] == pytest.approx(4.0)                                  # 4e-3, in 1e-3
+    # each curve: the stresses before each step's ruptures, then the run's
+    # end after its last step's (a failure in the last step shows as a fall)
+    drawn = sorted((tuple(l.get_xdata()[-2:]), tuple(l.get_ydata()[-2:]))
+                   for l in ax.get_lines() if len(l.get_xdata()) > 2)
+    ends = []
+    for d in study_data.DataFolder(TINY).rows():
+        if d["run"]["sigma_pm_ratio"] == 0.8:                        # the ratio nearest 1
+            c = study_data.curve_of(d)
+            ends.append(((c["strain"][-1] * 1e3,) * 2,
+                         (c["stress_before_norm"][-1], c["stress_norm"][-1])))
+    assert len(drawn) == len(ends) == 6
+    assert np.array(drawn) == pytest.approx(np.array(sorted(ends)))
     (ax,) = figs["fig05"].axes
     stars = {l.get_label().split(":")[0]: l.get_ydata()[0] for l in ax.get_lines()
              if l.get_marker() == "*"}

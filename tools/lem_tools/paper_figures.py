@@ -8,7 +8,8 @@ anything:
                 study and lattice it comes from)
   fit.json      eq. 10 fitted to the grid points, beta and S^pm per rho^m
   fig03.png  stress-strain curves at the adhesion nearest sigma^p, one per
-             rho^m; the paper's peak strain (~4e-3) marked
+             rho^m, each step before its ruptures and the run's end after
+             them; the paper's peak strain (~4e-3) marked
   fig05.png  E_eff against rho^m with a linear fit; the paper's 1.6 and
              2.5 E^[m] at rho^m = 0.28 as stars
   fig08.png  (a) the node-stress pdfs at three rho^m with our tails and the
@@ -147,7 +148,10 @@ def fig03(points, kept, res):
             continue
         for i, run_id in enumerate(p["runs"]):
             curve = curve_of(kept[run_id])
-            ax.plot(curve["strain"] * STRAIN_SCALE, curve["stress_before_norm"],
+            # each step's stress before its ruptures, then where the run
+            # ended: after the last step's (a failure in one step shows)
+            ax.plot(np.append(curve["strain"], curve["strain"][-1]) * STRAIN_SCALE,
+                    np.append(curve["stress_before_norm"], curve["stress_norm"][-1]),
                     color=colors[p["rho_m"]], lw=1.6 if i == 0 else 0.7, alpha=1 if i == 0 else 0.6,
                     label=None if i else r"$\rho^m$ = %.2f" % p["rho_m"])
             peak = int(np.argmax(curve["stress_before_norm"]))
@@ -158,7 +162,7 @@ def fig03(points, kept, res):
     ax.set_xlim(left=0)
     ax.set_ylim(bottom=0)
     ax.set_xlabel(r"strain $\varepsilon_{zz}$ ($10^{-3}$)")
-    ax.set_ylabel(r"$\sigma_{zz} / \sigma^{[p]}$ (before each step's ruptures)")
+    ax.set_ylabel(r"$\sigma_{zz} / \sigma^{[p]}$ (before each step's ruptures; the end after)")
     ax.legend(fontsize=8, title="dots: peaks" + (", thin: other samples"
                                                    if replicated(points) else ""),
               title_fontsize=8)
