@@ -268,6 +268,9 @@ def test_index_picks_one_run_of_all_and_is_refused_elsewhere(tmp_path, monkeypat
     args = [study_file(tmp_path), str(tmp_path / "out"), "--index", "3"]
     assert study.main(["all"] + args) == 0
     assert calls == [("s", None), ("c", None), ("r", 3)]
+    calls.clear()                                       # a run it lacks: refused before any work
+    assert study.main(["all"] + args[:2] + ["--index", "4"]) == 1
+    assert calls == [] and "--index 4: the study has 4 runs" in capsys.readouterr().err
     for command in ("plan", "status", "gather"):
         assert study.main([command] + args) == 1
         assert "--index picks a sample, lattice or run; `%s` takes none" % command \

@@ -740,6 +740,8 @@ def do(args):
         raise StudyError("--index picks a sample, lattice or run; `%s` takes none" % command)
     if command in ("calibrate", "run", "all"):
         launcher(study.spec["ranks"])  # a bad LEM_LAUNCHER stops before any work
+    if command == "all" and index is not None:
+        pick(study.runs(), index, "run")  # so does a bad --index
     study.plan()
     if command in ("samples", "all"):
         study.make_samples(index if command == "samples" else None)
