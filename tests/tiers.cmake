@@ -12,6 +12,7 @@
 # and a quick test covers its promise on a smaller case (named after '#').
 set(LEM_LONG_TESTS
   fracture_deflation              # test_particle_deflation_np2
+  fracture_restart_sample_particle_deflation # test_particle_deflation_np2, fracture_restart_kill (3 runs of the mini sample)
   test_particle_deflation_np1     # test_particle_deflation_np2 (1 and 2 ranks in one test)
   test_elastic_np1                # test_elastic_np2 (compares with a serial reference itself)
   test_fracture_system_np1        # test_fracture_system_np2
@@ -37,6 +38,7 @@ set(LEM_LONG_TESTS
   fracture_spec_mini_parallel     # fracture_spec_mini, test_parallel_setup_np2 (ids and a of both set-ups)
   outputs_commit_kill             # fracture_restart_kill, outputs_keep_finished
   outputs_disk_full_sizes         # outputs_disk_full, outputs_disk_full_overwrite
+  outputs_spectrum_probe_full_disk  # outputs_disk_full_sizes (a full disk, here in a diagnostic)
   outputs_overwrite_kill          # outputs_keep_finished, outputs_rerun
   outputs_overwrite_kill_renames  # outputs_keep_finished, outputs_rerun
   outputs_overwrite_stale         # outputs_concurrent

@@ -30,8 +30,10 @@ int run_driver(int argc, char** argv, const char* help, const std::function<void
   }
   const bool handle_stops = stops == StopHandling::save_and_exit;
   if (handle_stops) install_stop_handler();  // MPI start-up can take a while
-  // PETSc cannot start on a missing options file: say which, once.
-  const std::string unreadable = unreadable_options_file(argc, argv);
+  // PETSc cannot start on a missing options file and drops stray words:
+  // say which, once.
+  std::string unreadable = stray_command_line_word(argc, argv);
+  if (unreadable.empty()) unreadable = unreadable_options_file(argc, argv);
   if (!unreadable.empty()) {
     MPI_Init(&argc, &argv);
     int rank = 0;

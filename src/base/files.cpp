@@ -79,6 +79,17 @@ void write_text_file_atomically(const std::string& path, const std::string& text
   write_file_atomically(path, text.data(), text.size());
 }
 
+std::string unwritable_file(const std::string& path) {
+  const std::string tmp = path + ".tmp";
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) return "cannot create '" + tmp + "': " + last_error();
+  ::close(fd);
+  std::error_code ec;
+  fs::remove(tmp, ec);
+  if (const std::string what = not_a_regular_file(path); !what.empty()) return "it is " + what;
+  return "";
+}
+
 void write_file_atomically(const std::string& path, const void* data, std::size_t size) {
   const std::string tmp = path + ".tmp";
   const auto fail = [&](const std::string& why) {
@@ -217,13 +228,13 @@ std::uint32_t crc32(const void* data, std::size_t n, std::uint32_t crc) {
   return ~c;
 }
 
-std::string file_checksum(const std::string& path) {
+std::uint32_t file_prefix_crc32(const std::string& path, std::uint64_t bytes) {
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0) throw IoError("cannot read '" + path + "' for its checksum: " + last_error());
   std::vector<char> buffer(std::size_t(1) << 20);
   std::uint32_t crc = 0;
-  for (;;) {
-    const ssize_t n = ::read(fd, buffer.data(), buffer.size());
+  while (bytes > 0) {
+    const ssize_t n = ::read(fd, buffer.data(), std::min<std::uint64_t>(buffer.size(), bytes));
     if (n < 0 && errno == EINTR) continue;
     if (n < 0) {
       const std::string why = last_error();
@@ -232,11 +243,20 @@ std::string file_checksum(const std::string& path) {
     }
     if (n == 0) break;
     crc = crc32(buffer.data(), static_cast<std::size_t>(n), crc);
+    bytes -= static_cast<std::uint64_t>(n);
   }
   ::close(fd);
+  return crc;
+}
+
+std::string crc32_text(std::uint32_t crc) {
   char text[16];
   std::snprintf(text, sizeof text, "crc32:%08x", crc);
   return text;
+}
+
+std::string file_checksum(const std::string& path) {
+  return crc32_text(file_prefix_crc32(path, UINT64_MAX));
 }
 
 namespace {
@@ -245,6 +265,13 @@ constexpr char kChecksumKey[] = "checksum=";
 constexpr char kWarningKey[] = "warning=";
 constexpr char kProgramKey[] = "program=";
 constexpr char kFingerprintKey[] = "fingerprint ";
+
+// The checksum the manifest lists for `name`, or null.
+const std::string* checksum_of(const Manifest& m, const std::string& name) {
+  for (const auto& [file, sum] : m.checksums)
+    if (file == name) return &sum;
+  return nullptr;
+}
 }  // namespace
 
 bool has_manifest(const std::string& dir) {
@@ -296,6 +323,13 @@ std::optional<Manifest> read_manifest(const std::string& dir) {
     throw InputError("the manifest '" + path +
                      "' is damaged (no program or no end line); "
                      "remove it, or pass -output_overwrite to compute the result again");
+  // Checksums are written for every file, or (before they existed) for
+  // none: a line missing would let a changed file pass as committed.
+  for (const auto& [name, size] : m.files)
+    if (!m.checksums.empty() && !checksum_of(m, name))
+      throw InputError("the manifest '" + path + "' is damaged (no checksum of " + name +
+                       ", though it has those of the other files); remove it, or pass "
+                       "-output_overwrite to compute the result again");
   return m;
 }
 
@@ -313,13 +347,12 @@ std::string manifest_mismatch(const std::string& dir, const Manifest& m) {
              std::to_string(size);
       continue;
     }
-    const auto listed = std::find_if(m.checksums.begin(), m.checksums.end(),
-                                     [&](const auto& c) { return c.first == name; });
-    if (listed == m.checksums.end()) continue;  // a manifest written before checksums
+    const std::string* listed = checksum_of(m, name);
+    if (!listed) continue;  // a manifest written before checksums (read_manifest)
     const std::string sum = file_checksum(dir + "/" + name);
-    if (sum != listed->second)
+    if (sum != *listed)
       why += "\n  " + name + " has other content than was committed (checksum " + sum +
-             ", the manifest says " + listed->second + "), at the same size";
+             ", the manifest says " + *listed + "), at the same size";
   }
   return why;
 }

@@ -63,8 +63,9 @@ const char* const kOutsidePrefixes[] = {"-checkpoint_",
 // What PETSc prints while it solves, not what it solves.
 const char* const kOutsideParts[] = {"_monitor", "_view", "_converged_reason",      "_draw",
                                      "_plot_",   "_log",  "_error_if_not_converged"};
-const char* const kSolverPrefixes[] = {"-ksp_",       "-pc_",    "-mg_",  "-mat_",
-                                       "-fallback_",  "-patch_", "-sub_", "-redundant_",
+const char* const kSolverPrefixes[] = {"-ksp_",       "-pc_",        "-mg_",
+                                       "-mat_",       "-fallback_",  "-patch_",
+                                       "-sub_",       "-redundant_", "-deflation_coarse_",
                                        "-telescope_", "-solver_"};
 
 // One written form per value: numbers in their shortest exact form, booleans as true/false (a

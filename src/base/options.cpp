@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <sstream>
 
@@ -75,6 +76,7 @@ const char* const kPetscPrefixes[] = {"ksp_",
                                       "vec_",
                                       "fallback_",
                                       "patch_",
+                                      "deflation_coarse_",
                                       "log",
                                       "options_",
                                       "help",
@@ -494,6 +496,39 @@ void read_petsc_options(const std::function<void()>& read) {
       named = "one of the options given without a value (" + bare + ")";
     throw InputError((named.empty() ? std::string("a solver option") : named) +
                      " is rejected by PETSc: " + message);
+  }
+}
+
+void check_petsc_numbers() {
+  // PETSc takes nan and inf wherever it reads a real, and some of its
+  // setters check a range only at the first solve, or never (-ksp_max_it -5
+  // runs): the solver's ranges, checked before any work.
+  struct Range {
+    const char* suffix;
+    double lo, hi;  // [lo, hi)
+    bool whole;
+    const char* meaning;
+  };
+  static const Range kRanges[] = {
+      {"ksp_rtol", 0, 1, false, "a relative tolerance, at least 0 and below 1"},
+      {"ksp_atol", 0, HUGE_VAL, false, "an absolute tolerance, at least 0"},
+      {"ksp_divtol", 0, HUGE_VAL, false, "a divergence tolerance, at least 0"},
+      {"ksp_max_it", 0, 2147483647.0, true, "an iteration count, a whole number of at least 0"}};
+  for (const auto& [option, value] : database()) {
+    const OptionRecord* ours = find_record(option);
+    if ((ours && !ours->petsc_default) || !has_any_prefix(option.substr(1), kPetscPrefixes))
+      continue;
+    double x = 0;
+    const bool number = parse_real(value, x);
+    if (number && !std::isfinite(x))
+      throw InputError("option " + option + " = '" + value + "' is not a finite number");
+    for (const Range& r : kRanges) {
+      const std::size_t n = std::strlen(r.suffix);
+      if (option.size() < n || option.compare(option.size() - n, n, r.suffix) != 0) continue;
+      // Not a number: PETSc's own reading names it (read_petsc_options).
+      if (!number || (x >= r.lo && x < r.hi && (!r.whole || x == std::floor(x)))) continue;
+      throw InputError("option " + option + " = '" + value + "' is out of range: " + r.meaning);
+    }
   }
 }
 

@@ -83,6 +83,13 @@ std::string options_file_problem(const std::vector<std::string>& words, const st
     if (i + 1 >= words.size() || words[i + 1].empty() || is_option_name(words[i + 1]))
       return "option " + name + where + " is given without a value (a file of options)";
     const std::string path = words[++i];
+    // PETSc expands ${NAME} and a leading ~ in the name after this check: the
+    // file it would read is then not the one checked here.
+    if (path.find("${") != std::string::npos || path[0] == '~')
+      return "option " + name + " = '" + path + "'" + where +
+             ": PETSc expands '${...}' and '~' in this name after the program has checked the "
+             "file, so give the path written out (on a command line the shell expands $NAME "
+             "and ~ before the program starts)";
     const std::string refused = unusable_options_file(path);
     if (!refused.empty()) return "option " + name + " = '" + path + "'" + where + ": " + refused;
     std::FILE* file = std::fopen(path.c_str(), "r");
@@ -116,6 +123,37 @@ std::string options_file_problem(const std::vector<std::string>& words, const st
 }
 
 }  // namespace
+
+std::string stray_command_line_word(int argc, char** argv) {
+  // PETSc takes one value after an option and drops any other word without a
+  // leading dash, so "fracture_max_steps 1" or the 4 of
+  // "-fracture_max_steps 3 4" would be ignored without a word.
+  const auto first_stray = [](const std::vector<std::string>& words, const char* where) {
+    bool value_allowed = false;
+    for (std::size_t i = 0; i < words.size(); ++i) {
+      if (is_option_name(words[i])) {
+        value_allowed = true;
+      } else if (value_allowed) {
+        value_allowed = false;
+      } else {
+        const std::string after = i > 0 ? " (after '" + words[i - 1] + "')" : "";
+        return "the word '" + words[i] + "'" + after + where +
+               " is neither an option nor an option's value: options start with a dash and "
+               "take at most one value each";
+      }
+    }
+    return std::string();
+  };
+  std::string problem = first_stray({argv + 1, argv + argc}, " on the command line");
+  // PETSc reads this variable as if it were on the command line.
+  if (const char* env = std::getenv("PETSC_OPTIONS"); problem.empty() && env) {
+    std::istringstream in(env);
+    std::vector<std::string> words;
+    for (std::string w; in >> w;) words.push_back(w);
+    problem = first_stray(words, " in PETSC_OPTIONS");
+  }
+  return problem;
+}
 
 std::string unreadable_options_file(int argc, char** argv) {
   std::vector<std::string> words(argv + 1, argv + argc);

@@ -53,6 +53,16 @@ std::vector<std::uint8_t> face_flags(const Lattice& lattice, double tol) {
   return flags;
 }
 
+std::string empty_face_problem(std::int64_t bottom, std::int64_t top) {
+  if (bottom > 0 && top > 0) return "";
+  const char* face = bottom == 0 && top == 0 ? "neither the bottom nor the top face"
+                     : bottom == 0           ? "the bottom face"
+                                             : "the top face";
+  return std::string("tension: no node lies on ") + face +
+         " of the box (within 1e-9 of its shortest side): the box does not fit the nodes (an "
+         "edited box_lo/box_hi, or coordinates rounded when the file was copied)";
+}
+
 double face_share(std::uint8_t faces_i, std::uint8_t faces_j) {
   return std::ldexp(1.0, -std::popcount(unsigned(faces_i & faces_j)));
 }

@@ -7,6 +7,7 @@
 #include "lem/base/files.hpp"
 #include "lem/base/fingerprint.hpp"
 #include "lem/protocol/registry.hpp"
+#include "lem/system/elastic_system.hpp"
 #include "lem/io/write_watch.hpp"
 
 #include <algorithm>
@@ -21,9 +22,10 @@ namespace lem {
 
 namespace {
 
-// Version 4: written collectively by id (version 3 went through rank 0 whole;
-// version 2 had no check field, version 1 another state layout).
-constexpr char kCheckpointMagic[8] = {'L', 'E', 'M', 'C', 'K', 'P', 'T', '5'};
+// Version 6: the learnt space and the checksums of the logs (version 5 had
+// neither; 4 was written collectively by id, 3 through rank 0 whole, 2 had no
+// check field, 1 another state layout).
+constexpr char kCheckpointMagic[8] = {'L', 'E', 'M', 'C', 'K', 'P', 'T', '6'};
 
 void put(ByteWriter& w, const DamageHistory& h) {
   w.vec(h.bond_events), w.vec(h.bond_batches), w.vec(h.node_events), w.vec(h.node_batches);
@@ -36,16 +38,35 @@ void get(ByteReader& r, DamageHistory& h) {
 }
 
 // The layout: the head (magic, its length, the state, the fingerprint, the
-// damage history, the value count of each field, an FNV-1a checksum of all
-// that), then the fields by node id (3 doubles per node: the displacement,
-// then the check field if any), then an order-free checksum of the field
-// values (each rank sums the terms of its own nodes).
+// damage history, the value count of the displacement and the check field,
+// the columns of the learnt space, an FNV-1a checksum of all that), then the
+// fields by node id (3 doubles per node: the displacement, the check field
+// if any, each column of the learnt space), then an order-free checksum of
+// the field values (each rank sums the terms of its own nodes).
 struct Head {
   std::uint64_t bytes = 0;  // where the fields start
-  std::uint64_t displacement_values = 0, check_values = 0;
+  std::uint64_t displacement_values = 0, check_values = 0, learnt_columns = 0;
   std::uint64_t field_checksum = 0;  // the last 8 bytes of the file
-  std::uint64_t file_bytes() const { return bytes + 8 * (displacement_values + check_values) + 8; }
+  std::uint64_t file_bytes() const {
+    return bytes + 8 * ((1 + learnt_columns) * displacement_values + check_values) + 8;
+  }
 };
+
+// The fields in the order of the file (the check field only if `checked`).
+std::vector<const std::vector<double>*> file_fields(const Checkpoint& c, bool checked) {
+  std::vector<const std::vector<double>*> fields{&c.displacement};
+  if (checked) fields.push_back(&c.check_displacement);
+  for (const std::vector<double>& column : c.learnt_space) fields.push_back(&column);
+  return fields;
+}
+
+// How a message names value `index` of field `field` (file order).
+std::string value_name(std::size_t field, bool checked, std::uint64_t index) {
+  const std::string at = std::to_string(index);
+  if (field == 0) return "displacement " + at;
+  if (checked && field == 1) return "check field value " + at;
+  return "learnt deflation vector " + std::to_string(field - (checked ? 2 : 1)) + " value " + at;
+}
 
 std::uint64_t value_term(std::uint64_t index, double value) {
   std::uint64_t bits = 0;
@@ -54,7 +75,7 @@ std::uint64_t value_term(std::uint64_t index, double value) {
 }
 
 std::vector<char> head_bytes(const Checkpoint& c, std::uint64_t displacement_values,
-                             std::uint64_t check_values) {
+                             std::uint64_t check_values, std::uint64_t learnt_columns) {
   ByteWriter body;
   body.pod(static_cast<std::uint64_t>(sizeof(FractureState)));
   body.pod(c.state);
@@ -63,6 +84,7 @@ std::vector<char> head_bytes(const Checkpoint& c, std::uint64_t displacement_val
   put(body, c.damage);
   body.pod(displacement_values);
   body.pod(check_values);
+  body.pod(learnt_columns);
   ByteWriter w;
   w.raw(kCheckpointMagic, sizeof(kCheckpointMagic));
   w.pod(static_cast<std::uint64_t>(body.bytes.size()));
@@ -89,6 +111,9 @@ void check_head_values(const Checkpoint& c, const Head& head, const std::string&
   if (head.check_values != 0 && head.check_values != head.displacement_values)
     refuse(std::to_string(head.check_values) + " check field values for " + std::to_string(nodes) +
            " nodes");
+  if (head.learnt_columns > kMostRitzColumns)
+    refuse(std::to_string(head.learnt_columns) + " learnt deflation vectors, more than the " +
+           std::to_string(kMostRitzColumns) + " -solver_ritz_deflation keeps");
   const FractureState& s = c.state;
   const FractureTally& t = s.tally;
   for (const std::int64_t count :
@@ -155,10 +180,11 @@ std::vector<char> read_head(const std::string& path, const std::string& bad, Hea
                            "-checkpoint_resume false");
   }
   head.bytes = bytes.size();
-  std::memcpy(&head.displacement_values, bytes.data() + bytes.size() - 24, 8);
-  std::memcpy(&head.check_values, bytes.data() + bytes.size() - 16, 8);
-  const bool sized =
-      head.displacement_values < size && head.check_values < size && head.file_bytes() == size;
+  std::memcpy(&head.displacement_values, bytes.data() + bytes.size() - 32, 8);
+  std::memcpy(&head.check_values, bytes.data() + bytes.size() - 24, 8);
+  std::memcpy(&head.learnt_columns, bytes.data() + bytes.size() - 16, 8);
+  const bool sized = head.displacement_values < size && head.check_values < size &&
+                     head.learnt_columns < size && head.file_bytes() == size;
   ok = sized && read_at(size - 8, &head.field_checksum, 8);
   std::fclose(f);
   if (!ok)
@@ -183,7 +209,7 @@ Checkpoint parse_head(const std::vector<char>& bytes, const std::string& bad) {
     r.str(c.fingerprint);
     r.str(c.relaxation_state);
     get(r, c.damage);
-    r.pod(values), r.pod(values);
+    r.pod(values), r.pod(values), r.pod(values);
     const DamageHistory& h = c.damage;
     if (!r.at_end() || h.bond_events.size() != h.bond_batches.size() ||
         h.node_events.size() != h.node_batches.size())
@@ -294,11 +320,14 @@ void write_checkpoint_file(MPI_Comm comm, const std::string& path, const Checkpo
   std::int64_t mine = static_cast<std::int64_t>(ids.size()), nodes = 0;
   MPI_Allreduce(&mine, &nodes, 1, MPI_INT64_T, MPI_SUM, comm);
   const auto values = 3 * static_cast<std::uint64_t>(nodes);
+  // A rank without nodes has no check field values: agree on whether there is one.
   int checked = !c.check_displacement.empty(), any_checked = 0;
   MPI_Allreduce(&checked, &any_checked, 1, MPI_INT, MPI_MAX, comm);
-  const std::vector<char> head = head_bytes(c, values, any_checked ? values : 0);
-  std::uint64_t sum = field_terms(ids, c.displacement, 0), total = 0;
-  if (any_checked) sum += field_terms(ids, c.check_displacement, values);
+  const std::vector<const std::vector<double>*> fields = file_fields(c, any_checked);
+  const std::vector<char> head =
+      head_bytes(c, values, any_checked ? values : 0, c.learnt_space.size());
+  std::uint64_t sum = 0, total = 0;
+  for (std::size_t k = 0; k < fields.size(); ++k) sum += field_terms(ids, *fields[k], k * values);
   MPI_Allreduce(&sum, &total, 1, MPI_UINT64_T, MPI_SUM, comm);
 
   const std::string tmp = path + ".tmp";
@@ -315,7 +344,7 @@ void write_checkpoint_file(MPI_Comm comm, const std::string& path, const Checkpo
   try {
     io_step<IoError>(comm, failed + ": writing '" + tmp + "' failed", [&] {
       if (rank != 0) return std::string();
-      const std::uint64_t end = head.size() + 8 * (values + (any_checked ? values : 0));
+      const std::uint64_t end = head.size() + 8 * values * fields.size();
       MPI_Status status;
       std::string why =
           transfer_error(MPI_File_write_at(file, 0, head.data(), static_cast<int>(head.size()),
@@ -328,10 +357,10 @@ void write_checkpoint_file(MPI_Comm comm, const std::string& path, const Checkpo
       return why;
     });
     const NodeRows rows(ids);
-    const auto write_field = [&](const std::vector<double>& owned, std::uint64_t field) {
-      const std::vector<double> sorted = rows.sorted(owned);
+    for (std::size_t k = 0; k < fields.size(); ++k) {
+      const std::vector<double> sorted = rows.sorted(*fields[k]);
       io_step<IoError>(comm, failed + ": writing '" + tmp + "' failed", [&] {
-        const auto start = static_cast<MPI_Offset>(head.size() + 8 * field * values);
+        const auto start = static_cast<MPI_Offset>(head.size() + 8 * k * values);
         const int code =
             MPI_File_set_view(file, start, MPI_DOUBLE, rows.view(), "native", MPI_INFO_NULL);
         if (code != MPI_SUCCESS) return mpi_error_text(code);
@@ -341,9 +370,7 @@ void write_checkpoint_file(MPI_Comm comm, const std::string& path, const Checkpo
                                                  &status),
                               status, MPI_DOUBLE, sorted.size());
       });
-    };
-    write_field(c.displacement, 0);
-    if (any_checked) write_field(c.check_displacement, 1);
+    }
     io_step<IoError>(comm, failed + ": syncing '" + tmp + "' failed",
                      [&] { return call_error(MPI_File_sync(file)); });
     io_step<IoError>(comm, failed + ": closing '" + tmp + "' failed",
@@ -356,28 +383,12 @@ void write_checkpoint_file(MPI_Comm comm, const std::string& path, const Checkpo
   run_on_root(comm, [&] { move_into_place(tmp, path); });
 }
 
-Checkpoint read_checkpoint_file(MPI_Comm comm, const std::string& path,
-                                const std::vector<std::int64_t>& ids,
-                                const std::function<void(const Checkpoint&)>& accept) {
-  const std::string bad = "the checkpoint '" + path + "' is not a valid lem checkpoint (";
-  std::vector<char> bytes;
-  Head head;
-  run_on_root(comm, [&] {
-    bytes = read_head(path, bad, head);
-    const Checkpoint c = parse_head(bytes, bad);
-    check_head_values(c, head, bad);
-    if (accept) accept(c);
-  });
-  broadcast(comm, bytes);
-  broadcast_value(comm, head);
-  Checkpoint c = parse_head(bytes, bad);
-  const std::uint64_t values = head.displacement_values;
-  run_collectively(comm, [&] {
-    for (const std::int64_t id : ids)
-      if (id < 0 || 3 * static_cast<std::uint64_t>(id) >= values)
-        throw InputError(bad + "it has no node " + std::to_string(id) + ")");
-  });
+namespace {
 
+// Every field of the file, each rank the values of its nodes `ids`.
+void read_fields(MPI_Comm comm, const std::string& path, const Head& head,
+                 const std::vector<std::int64_t>& ids, Checkpoint& c) {
+  const std::uint64_t values = head.displacement_values;
   const NodeRows rows(ids);
   MPI_File file = MPI_FILE_NULL;
   const std::string failed = "cannot read the checkpoint '" + path + "'";
@@ -399,37 +410,70 @@ Checkpoint read_checkpoint_file(MPI_Comm comm, const std::string& path,
     return rows.unsorted(sorted);
   };
   try {
-    c.displacement = read_field(0);
-    if (head.check_values != 0) c.check_displacement = read_field(1);
+    std::uint64_t field = 0;
+    c.displacement = read_field(field++);
+    if (head.check_values != 0) c.check_displacement = read_field(field++);
+    for (std::uint64_t j = 0; j < head.learnt_columns; ++j)
+      c.learnt_space.push_back(read_field(field++));
   } catch (...) {
     MPI_File_close(&file);
     throw;
   }
   MPI_File_close(&file);
+}
 
-  // The field checksum covers every node once the ranks' terms are summed.
-  std::uint64_t sum = field_terms(ids, c.displacement, 0), total = 0;
-  if (head.check_values != 0) sum += field_terms(ids, c.check_displacement, values);
+// The field checksum (over every node once the ranks' terms are summed),
+// then every value finite: InputError on every rank otherwise.
+void check_fields(MPI_Comm comm, const Head& head, const std::vector<std::int64_t>& ids,
+                  const Checkpoint& c, const std::string& bad) {
+  const bool checked = head.check_values != 0;
+  const std::vector<const std::vector<double>*> fields = file_fields(c, checked);
+  const std::uint64_t values = head.displacement_values;
+  std::uint64_t sum = 0, total = 0;
+  for (std::size_t k = 0; k < fields.size(); ++k) sum += field_terms(ids, *fields[k], k * values);
   MPI_Allreduce(&sum, &total, 1, MPI_UINT64_T, MPI_SUM, comm);
   if (total != head.field_checksum)
     throw InputError(bad + "checksum mismatch: corrupt); remove it or pass "
                            "-checkpoint_resume false");
-  // The lowest non-finite value of each field, by its index in the file.
-  std::uint64_t lowest[2] = {UINT64_MAX, UINT64_MAX}, global[2];
-  for (std::size_t n = 0; n < ids.size(); ++n)
-    for (int a = 0; a < 3; ++a) {
-      const std::uint64_t index = 3 * static_cast<std::uint64_t>(ids[n]) + a;
-      if (!std::isfinite(c.displacement[3 * n + a])) lowest[0] = std::min(lowest[0], index);
-      if (!c.check_displacement.empty() && !std::isfinite(c.check_displacement[3 * n + a]))
-        lowest[1] = std::min(lowest[1], index);
-    }
-  MPI_Allreduce(lowest, global, 2, MPI_UINT64_T, MPI_MIN, comm);
-  for (int field = 0; field < 2; ++field)
-    if (global[field] != UINT64_MAX)
-      throw InputError(bad + (field == 0 ? "displacement " : "check field value ") +
-                       std::to_string(global[field]) +
-                       " is not finite); remove it or pass "
-                       "-checkpoint_resume false");
+  // The lowest non-finite value of each field, by its index in the field.
+  std::vector<std::uint64_t> lowest(fields.size(), UINT64_MAX), global(fields.size());
+  for (std::size_t k = 0; k < fields.size(); ++k)
+    for (std::size_t n = 0; n < ids.size(); ++n)
+      for (int a = 0; a < 3; ++a)
+        if (!std::isfinite((*fields[k])[3 * n + a]))
+          lowest[k] = std::min(lowest[k], 3 * static_cast<std::uint64_t>(ids[n]) + a);
+  MPI_Allreduce(lowest.data(), global.data(), static_cast<int>(fields.size()), MPI_UINT64_T,
+                MPI_MIN, comm);
+  for (std::size_t k = 0; k < fields.size(); ++k)
+    if (global[k] != UINT64_MAX)
+      throw InputError(bad + value_name(k, checked, global[k]) +
+                       " is not finite); remove it or pass -checkpoint_resume false");
+}
+
+}  // namespace
+
+Checkpoint read_checkpoint_file(MPI_Comm comm, const std::string& path,
+                                const std::vector<std::int64_t>& ids,
+                                const std::function<void(const Checkpoint&)>& accept) {
+  const std::string bad = "the checkpoint '" + path + "' is not a valid lem checkpoint (";
+  std::vector<char> bytes;
+  Head head;
+  run_on_root(comm, [&] {
+    bytes = read_head(path, bad, head);
+    const Checkpoint c = parse_head(bytes, bad);
+    check_head_values(c, head, bad);
+    if (accept) accept(c);
+  });
+  broadcast(comm, bytes);
+  broadcast_value(comm, head);
+  Checkpoint c = parse_head(bytes, bad);
+  run_collectively(comm, [&] {
+    for (const std::int64_t id : ids)
+      if (id < 0 || 3 * static_cast<std::uint64_t>(id) >= head.displacement_values)
+        throw InputError(bad + "it has no node " + std::to_string(id) + ")");
+  });
+  read_fields(comm, path, head, ids, c);
+  check_fields(comm, head, ids, c, bad);
   return c;
 }
 
@@ -445,11 +489,14 @@ bool CheckpointStore::exists() const {
   return found != 0;
 }
 
-Checkpoint CheckpointStore::load() const {
+Checkpoint CheckpointStore::load(const std::string& learning_option) const {
   const DistributedLattice& l = lattice_;
   int other_ranks = 0;  // rank count of a checkpoint written by another one
+  int ranks = 1;
+  MPI_Comm_size(l.comm, &ranks);
   // Everything in the checkpoint is by lattice id, so another partition can
-  // take it over: the rank count may differ.
+  // take it over: the rank count may differ, unless an option learns from
+  // the solves (what it learns depends on the rank count's rounding).
   std::string solver_changes;
   Checkpoint c = read_checkpoint_file(l.comm, path_, owned_ids(), [&](const Checkpoint& theirs) {
     const FingerprintDifference d =
@@ -461,6 +508,15 @@ Checkpoint CheckpointStore::load() const {
                        d.differs +
                        "\nresume with the same command, or "
                        "pass -checkpoint_resume false to start over");
+    if (d.other_ranks > 0 && !learning_option.empty())
+      throw InputError("cannot resume the checkpoint '" + path_ + "', written on " +
+                       std::to_string(d.other_ranks) + " ranks, on " + std::to_string(ranks) +
+                       " under " + learning_option + ": the deflation space it learnt from the " +
+                       std::to_string(d.other_ranks) +
+                       "-rank solves is in the checkpoint, but only that rank count goes on "
+                       "learning as the uninterrupted run; resume it on " +
+                       std::to_string(d.other_ranks) +
+                       " ranks, or pass -checkpoint_resume false to start over");
     other_ranks = d.other_ranks;
     solver_changes = d.solver_changes;
   });
@@ -472,8 +528,6 @@ Checkpoint CheckpointStore::load() const {
         "tolerance, not bit for bit\n",
         solver_changes.c_str());
   if (other_ranks > 0) {
-    int ranks = 1;
-    MPI_Comm_size(l.comm, &ranks);
     say("resuming a checkpoint written on %d ranks on %d: the preconditioner differs, so the "
         "rest of the run agrees with an uninterrupted one to the solver tolerance, not bit for "
         "bit\n",
@@ -484,8 +538,13 @@ Checkpoint CheckpointStore::load() const {
 
 void CheckpointStore::hold(const FractureState& state, std::string relaxation_state,
                            const DamageMark& damage, std::vector<double> owned_u,
-                           std::vector<double> owned_check) {
-  held_ = {state, std::move(relaxation_state), damage, std::move(owned_u), std::move(owned_check)};
+                           std::vector<double> owned_check, std::vector<VecHandle> learnt_space) {
+  held_ = {state,
+           std::move(relaxation_state),
+           damage,
+           std::move(owned_u),
+           std::move(owned_check),
+           std::move(learnt_space)};
 }
 
 void CheckpointStore::save(const DamageLedger& ledger) const {
@@ -496,6 +555,14 @@ void CheckpointStore::save(const DamageLedger& ledger) const {
   c.damage = ledger.prefix(held_.damage);
   c.displacement = held_.u;
   c.check_displacement = held_.check;
+  for (const VecHandle& column : held_.learnt_space) {
+    PetscInt n = 0;
+    const PetscScalar* w = nullptr;
+    LEM_PETSC(VecGetLocalSize(column, &n));
+    LEM_PETSC(VecGetArrayRead(column, &w));
+    c.learnt_space.emplace_back(w, w + n);
+    LEM_PETSC(VecRestoreArrayRead(column, &w));
+  }
   write_checkpoint_file(lattice_.comm, path_, c, owned_ids());
 }
 

@@ -110,9 +110,10 @@ class Protocol {
 };
 
 void Protocol::resume() {
-  Checkpoint c = checkpoint_.load();
+  Checkpoint c = checkpoint_.load(system_.learning_option());
   ledger_.replay(std::move(c.damage), c.state.batches);
   system_.set_state(c.displacement, displacement_of(c.state.tally.steps), c.check_displacement);
+  system_.restore_learnt_space(c.learnt_space);
   // A rebuild asked for before the checkpoint (iteration growth, fallback).
   if (c.state.preconditioner.rebuild_pending) system_.rebuild_preconditioner();
   state_ = c.state;
@@ -201,7 +202,7 @@ void Protocol::hold_equilibrium() {
   FractureState held = state_;
   held.seconds_before = clock_.elapsed();
   checkpoint_.hold(held, relaxation_->saved_state(), ledger_.mark(), system_.solution(),
-                   system_.check_solution());
+                   system_.check_solution(), system_.learnt_space());
   holding_ = true;
 }
 
@@ -261,6 +262,9 @@ FractureResult Protocol::run() {
     warnings_.resumed(tally_);
     say("resumed from %s at step %lld (%lld bonds broken)\n", checkpoint_.path().c_str(),
         (long long)tally_.steps, (long long)ledger_.history().bond_events.size());
+    if (const std::size_t learnt = system_.learnt_space().size(); learnt > 0)
+      say("resumed the space of %s: %zu learnt vectors\n", system_.learning_option().c_str(),
+          learnt);
   } else {
     recorder_.open_new();
     state_.next_checkpoint_step = o_.checkpoint_steps;

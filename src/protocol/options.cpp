@@ -31,8 +31,18 @@ std::string read_registered(OptionGroup& g, const char* name, const std::string&
       entries[g.choice<std::size_t>(name, help.c_str(), words, def_index)].name;
   // The options of every one, chosen or not: -help lists them, and a
   // misspelt one is an error whichever is chosen.
-  for (const Entry& e : entries)
-    if (e.read_options) e.read_options(g);
+  for (const Entry& e : entries) {
+    if (!e.read_options) continue;
+    const std::size_t first = registered_options().size();
+    e.read_options(g);
+    if (e.name == chosen) continue;
+    // An option of one not chosen would be ignored without a word.
+    for (std::size_t i = first; i < registered_options().size(); ++i)
+      if (registered_options()[i].given)
+        throw InputError("option " + registered_options()[i].name + " belongs to " + name + " " +
+                         e.name + ", but this run uses " + name + " " + chosen +
+                         ": drop the option, or choose " + e.name);
+  }
   return chosen;
 }
 

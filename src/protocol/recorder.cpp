@@ -32,17 +32,38 @@ void FractureRecorder::Stream::open(const char* mode) {
   file.reset(std::fopen(part().c_str(), mode));
   if (!file) throw IoError("cannot open '" + part() + "': " + std::strerror(errno));
   error.clear();
+  crc = 0;
 }
 
 void FractureRecorder::Stream::print(const char* format, ...) {
   // After a failure nothing more is written: a full disk that frees again
   // must not splice rows together.
   if (!file || !error.empty()) return;
-  va_list args;
+  // Formatted here first, so that the checksum sees the bytes written.
+  char row[512];
+  std::string longer;
+  va_list args, again;
   va_start(args, format);
-  const int n = std::vfprintf(file.get(), format, args);
+  va_copy(again, args);
+  const int n = std::vsnprintf(row, sizeof row, format, args);
   va_end(args);
-  if (n < 0) error = std::strerror(errno);
+  const char* text = row;
+  if (n >= static_cast<int>(sizeof row)) {
+    longer.resize(static_cast<std::size_t>(n) + 1);
+    std::vsnprintf(longer.data(), longer.size(), format, again);
+    text = longer.data();
+  }
+  va_end(again);
+  if (n < 0) {
+    error = std::strerror(errno);
+    return;
+  }
+  const auto size = static_cast<std::size_t>(n);
+  if (std::fwrite(text, 1, size, file.get()) != size) {
+    error = std::strerror(errno);
+    return;
+  }
+  crc = crc32(text, size, crc);
 }
 
 void FractureRecorder::Stream::flush() {
@@ -189,42 +210,59 @@ void FractureRecorder::open_new() {
   });
 }
 
+// Rank 0 of a resumed run: the log of `stream`, taken back from its final
+// name if the run was killed after renaming it, must begin with what the
+// checkpoint recorded: `bytes` bytes of CRC-32 `crc`.
+void FractureRecorder::take_back(const Stream& stream, std::int64_t bytes, std::uint32_t crc) {
+  namespace fs = std::filesystem;
+  const std::string part = stream.part(), final_path = stream.final_path;
+  std::error_code ec;
+  // A run killed after renaming its logs but before committing them
+  // (no manifest): they are still this run's, so take them back.
+  if (!fs::exists(part, ec) && fs::exists(final_path, ec)) {
+    if (std::rename(final_path.c_str(), part.c_str()) != 0)
+      throw IoError("cannot resume: renaming '" + final_path + "' back to '" + part +
+                    "' failed: " + std::strerror(errno));
+    sync_directory(output_.dir);
+  }
+  const auto actual = fs::file_size(part, ec);
+  if (ec)
+    throw InputError("cannot resume: '" + part + "' is missing (" + ec.message() +
+                     "); remove the checkpoint to start over");
+  // Padding it would put NUL bytes in the results.
+  if (static_cast<std::int64_t>(actual) < bytes)
+    throw InputError("cannot resume: '" + part + "' has " + std::to_string(actual) +
+                     " bytes, fewer than the " + std::to_string(bytes) +
+                     " the checkpoint "
+                     "records (damaged or replaced); remove the checkpoint to start over");
+  // An edit would otherwise be sealed into the result with a fresh checksum.
+  const std::uint32_t found = file_prefix_crc32(part, static_cast<std::uint64_t>(bytes));
+  if (found != crc)
+    throw InputError("cannot resume: '" + part +
+                     "' has other content than the checkpoint recorded (checksum " +
+                     crc32_text(found) + " of its first " + std::to_string(bytes) +
+                     " bytes, the checkpoint says " + crc32_text(crc) +
+                     "); remove the checkpoint to start over");
+}
+
 void FractureRecorder::reopen(const ResultFileMarks& marks) {
   run_on_root(lattice_.comm, [&] {
-    namespace fs = std::filesystem;
-    for (auto [stream, size] :
-         {std::pair{&curve_, marks.curve_bytes}, std::pair{&broken_, marks.broken_bytes}}) {
-      const std::string part = stream->part(), final_path = stream->final_path;
-      std::error_code ec;
-      // A run killed after renaming its logs but before committing them
-      // (no manifest): they are still this run's, so take them back.
-      if (!fs::exists(part, ec) && fs::exists(final_path, ec)) {
-        if (std::rename(final_path.c_str(), part.c_str()) != 0)
-          throw IoError("cannot resume: renaming '" + final_path + "' back to '" + part +
-                        "' failed: " + std::strerror(errno));
-        sync_directory(output_.dir);
-      }
-      const auto actual = fs::file_size(part, ec);
-      if (ec)
-        throw InputError("cannot resume: '" + part + "' is missing (" + ec.message() +
-                         "); remove the checkpoint to start over");
-      // Padding it would put NUL bytes in the results.
-      if (static_cast<std::int64_t>(actual) < size)
-        throw InputError("cannot resume: '" + part + "' has " + std::to_string(actual) +
-                         " bytes, fewer than the " + std::to_string(size) +
-                         " the checkpoint "
-                         "records (damaged or replaced); remove the checkpoint to start over");
-      // Drop the rows written after the checkpoint.
-      if (::truncate(part.c_str(), static_cast<off_t>(size)) != 0)
-        throw IoError("cannot resume: '" + part + "' is unwritable (" + std::strerror(errno) +
-                      "); remove the checkpoint to start over");
-    }
+    take_back(curve_, marks.curve_bytes, marks.curve_crc);
+    take_back(broken_, marks.broken_bytes, marks.broken_crc);
+    // Both checked: drop the rows written after the checkpoint.
+    for (const auto& [stream, bytes] :
+         {std::pair{&curve_, marks.curve_bytes}, std::pair{&broken_, marks.broken_bytes}})
+      if (::truncate(stream->part().c_str(), static_cast<off_t>(bytes)) != 0)
+        throw IoError("cannot resume: '" + stream->part() + "' is unwritable (" +
+                      std::strerror(errno) + "); remove the checkpoint to start over");
     // Snapshots written after the checkpoint: the resumed run writes those it
     // reaches again, and one it does not reach (a lower -fracture_max_steps)
     // is not part of its result.
     remove_snapshots_after(output_.dir, last_curve_step(curve_.part()));
     curve_.open("ab");
     broken_.open("ab");
+    curve_.crc = marks.curve_crc;
+    broken_.crc = marks.broken_crc;
     // ftell() of a fresh append stream may say 0 until the first write.
     std::fseek(curve_.file.get(), 0, SEEK_END);
     std::fseek(broken_.file.get(), 0, SEEK_END);
@@ -264,6 +302,8 @@ ResultFileMarks FractureRecorder::marks() {
     broken_.check();
     m.curve_bytes = std::ftell(curve_.file.get());
     m.broken_bytes = std::ftell(broken_.file.get());
+    m.curve_crc = curve_.crc;
+    m.broken_crc = broken_.crc;
   });
   MPI_Bcast(&m, sizeof(m), MPI_BYTE, 0, lattice_.comm);
   return m;

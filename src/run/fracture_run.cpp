@@ -3,6 +3,7 @@
 #include "lem/report/calibration.hpp"
 #include "lem/base/collective.hpp"
 #include "lem/base/driver.hpp"
+#include "lem/base/files.hpp"
 #include "lem/base/error.hpp"
 #include "lem/run/fracture_summary.hpp"
 #include "lem/base/log.hpp"
@@ -162,6 +163,14 @@ Calibration calibrate(MPI_Comm comm, const SampleOptions& sample, const SolverOp
     keep_stored_warnings(*stored, path, options.strict, warnings);
     return *stored;
   }
+  // A calibration that could not be stored where it was asked for is
+  // refused before it runs, not after.
+  if (chosen)
+    run_on_root(comm, [&] {
+      if (const std::string why = unwritable_file(path); !why.empty())
+        throw InputError("option -fracture_calibration_file: '" + path + "' cannot be written (" +
+                         why + "), so the calibration would be lost; choose a writable path");
+    });
   // A calibration stopped by a signal resumes from its checkpoint, whose
   // logs may already carry their final names.
   prepare_output_dir(comm, hom_output.dir,

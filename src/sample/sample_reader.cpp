@@ -146,6 +146,13 @@ class SampleReader {
     const bool want_float = std::is_floating_point_v<T>;
     if (H5Tget_class(stored.get()) != (want_float ? H5T_FLOAT : H5T_INTEGER))
       corrupt("dataset " + name + " should hold " + (want_float ? "reals" : "integers"));
+    // Reals narrower than T would be widened on reading, their rounding
+    // kept: nodes moved off the box faces read as a disconnected sample.
+    if (want_float && H5Tget_size(stored.get()) < sizeof(T))
+      corrupt("dataset " + name + " holds " + std::to_string(H5Tget_size(stored.get())) +
+              "-byte reals; a sample stores " + std::to_string(sizeof(T)) +
+              "-byte ones (lem_sample writes them; a copy converted to single precision has "
+              "lost the nodes' places)");
     if (rank == 2 && dims[1] != columns)
       corrupt("dataset " + name + " has " + std::to_string(dims[1]) + " columns, expected " +
               std::to_string(columns));
@@ -315,6 +322,16 @@ void read_bond_rows(const SampleReader& r, const SampleFile& f, std::int64_t beg
   }
   const auto codes = r.rows<std::uint8_t>("/bonds/phase", m, 0, begin, count);
   check_range(r, codes, 0, kPhaseCount - 1, "/bonds/phase", 1, begin);
+  // Every bond of a sample holds the lattice's stiffness (the phases set a
+  // run's stiffness): another value means an edited or foreign file.
+  const auto stiffness = r.rows<double>("/bonds/stiffness", m, 0, begin, count);
+  const double lattice_stiffness = f.spec.lattice.stiffness;
+  for (std::size_t k = 0; k < stiffness.size(); ++k)
+    if (!(stiffness[k] == lattice_stiffness))
+      r.corrupt("/bonds/stiffness row " + std::to_string(begin + static_cast<std::int64_t>(k)) +
+                " holds " + value_text(stiffness[k]) +
+                "; every bond of a sample holds the attribute lattice_stiffness = " +
+                value_text(lattice_stiffness));
   b.bond_phase.resize(codes.size());
   for (std::size_t k = 0; k < codes.size(); ++k) b.bond_phase[k] = static_cast<Phase>(codes[k]);
 }

@@ -209,6 +209,13 @@ void keep_system_bonds(DistributedLattice& l, const std::vector<char>& out, Setu
 }  // namespace
 
 void constrain(DistributedLattice& l, const std::vector<int>& ghost_owner, SetupReport& report) {
+  std::int64_t on_face[2] = {0, 0};  // owned nodes on the bottom and top faces
+  for (int n = 0; n < l.owned; ++n)
+    on_face[0] += (l.faces[n] & kZmin) != 0, on_face[1] += (l.faces[n] & kZmax) != 0;
+  if (const std::string problem = empty_face_problem(sum_over_ranks(l.comm, on_face[0]),
+                                                     sum_over_ranks(l.comm, on_face[1]));
+      !problem.empty())
+    throw InputError(problem);
   const PieceFinder finder(l);
   std::vector<char> out = finder.underconnected();
   const std::vector<std::int64_t> label = finder.labels(out);

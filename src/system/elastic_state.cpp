@@ -4,6 +4,7 @@
 #include "lem/system/elastic_system.hpp"
 
 #include "bond_operator.hpp"
+#include "ritz_deflation.hpp"
 
 #include "lem/base/error.hpp"
 #include "lem/system/lateral_strain.hpp"
@@ -232,5 +233,27 @@ void ElasticSystem::set_state(const std::vector<double>& owned, double top_displ
   field_rtol_ = equilibrium_ ? rtol() : std::numeric_limits<double>::infinity();
   ties_settled_ = false;
 }
+
+std::vector<VecHandle> ElasticSystem::learnt_space() const {
+  return ritz_ ? ritz_->columns() : std::vector<VecHandle>{};
+}
+
+void ElasticSystem::restore_learnt_space(const std::vector<std::vector<double>>& columns) {
+  if (!ritz_) return;
+  std::vector<VecHandle> space;
+  for (const std::vector<double>& owned : columns) {
+    if (owned.size() != 3 * static_cast<std::size_t>(lattice_.owned))
+      throw std::logic_error("ElasticSystem::restore_learnt_space: wrong number of values");
+    space.emplace_back();
+    LEM_PETSC(MatCreateVecs(K_, space.back().replace(), nullptr));
+    PetscScalar* w = nullptr;
+    LEM_PETSC(VecGetArray(space.back(), &w));
+    std::copy(owned.begin(), owned.end(), w);
+    LEM_PETSC(VecRestoreArray(space.back(), &w));
+  }
+  ritz_->restore(std::move(space));
+}
+
+std::string ElasticSystem::learning_option() const { return ritz_ ? "-solver_ritz_deflation" : ""; }
 
 }  // namespace lem

@@ -71,7 +71,10 @@ ParticleDeflation::ParticleDeflation(const DistributedLattice& lattice, Mat K, K
   if (!any)
     throw InputError("-solver_particle_deflation needs the particle of every node: use a "
                      "cemented sample (-sample_file or -sample_*), not a plain lattice");
-  LEM_PETSC(KSPSetOperators(ksp, K_, K_));
+  // CG keeps its operator (-solver_operator): handing it K here made the
+  // first preconditioner's solves multiply by K and later ones by the bond
+  // operator, so a resumed run (whose builds all set the operator) parted
+  // from the uninterrupted one in the last bits.
 
   create_coarse_solver(lattice_.comm, coarse_);
   LEM_PETSC(MatCreateVecs(K_, work_.replace(), nullptr));

@@ -5,7 +5,9 @@
 #include "lem/base/error.hpp"
 #include "lem/base/log.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <iterator>
 
 namespace lem {
 
@@ -97,6 +99,29 @@ void RitzDeflation::learn() {
   lanczos_.clear();
   alpha_.clear();
   beta_.clear();
+}
+
+std::vector<VecHandle> RitzDeflation::columns() const {
+  std::vector<VecHandle> shared;
+  for (const VecHandle& w : W_) {
+    LEM_PETSC(PetscObjectReference(reinterpret_cast<PetscObject>(w.get())));
+    shared.emplace_back(w.get());
+  }
+  return shared;
+}
+
+void RitzDeflation::restore(std::vector<VecHandle> columns) {
+  const std::size_t kept = std::min(columns.size(), static_cast<std::size_t>(count_));
+  W_.assign(std::make_move_iterator(columns.end() - static_cast<std::ptrdiff_t>(kept)),
+            std::make_move_iterator(columns.end()));
+  KW_.clear();
+  for (std::size_t j = 0; j < kept; ++j) {
+    KW_.emplace_back();
+    LEM_PETSC(VecDuplicate(work_, KW_.back().replace()));
+  }
+  w_.assign(W_.begin(), W_.end());
+  kw_.assign(KW_.begin(), KW_.end());
+  coarse_stale_ = true;
 }
 
 void RitzDeflation::form_coarse() {

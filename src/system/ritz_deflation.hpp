@@ -17,6 +17,8 @@
 // u + Q (b - K u) (the A-DEF2 form, as the per-particle deflation).  K W is
 // kept, so an iteration costs a few vector operations but no extra product
 // with K; K W and W^T K W are formed again (count products) when K changes.
+// W is what the run has learnt: a checkpoint keeps it (columns, restore), so
+// that a resumed run solves as the uninterrupted one.
 #pragma once
 
 #include "lem/base/petsc_handle.hpp"
@@ -45,6 +47,14 @@ class RitzDeflation : public WrappedPreconditioner {
   void learn();
   /// Columns of W.
   int size() const { return static_cast<int>(W_.size()); }
+  /// The columns of W, oldest first, shared with W: a column never changes
+  /// once learnt (new ones join, old ones leave), so a holder sees the
+  /// space of this moment.
+  std::vector<VecHandle> columns() const;
+  /// Start from these columns (a resumed run; the newest `count` of them):
+  /// K W and W^T K W are formed before the next solve, as after any change
+  /// of K.
+  void restore(std::vector<VecHandle> columns);
 
  private:
   static PetscErrorCode shell_apply(PC pc, Vec r, Vec z);

@@ -4,9 +4,12 @@
 
 #include "lem/system/elastic_system.hpp"
 #include "lem/base/error.hpp"
+#include "lem/base/files.hpp"
 #include "lem/base/options.hpp"
 #include "lem/base/petsc_handle.hpp"
 
+#include <cmath>
+#include <sstream>
 #include <string>
 
 namespace lem {
@@ -131,6 +134,9 @@ void default_no_inodes() {
 
 namespace {
 
+// Beyond any run's solve count (10^7-bond runs make about 10^4 solves).
+constexpr double kMaxSpectrumSolve = 1e9;
+
 // The program's own options of the elastic system and its solver.
 SolverOptions read_elastic_system_options(MPI_Comm comm) {
   SolverOptions o;
@@ -172,7 +178,7 @@ SolverOptions read_elastic_system_options(MPI_Comm comm) {
                   "Deflate up to this many slow Ritz vectors of the "
                   "multigrid-preconditioned K around the preconditioner (A-DEF2), learnt from the "
                   "Lanczos vectors of the solves themselves (docs/model/fracture.md); 0: none",
-                  o.ritz_deflation, 0, 64));
+                  o.ritz_deflation, 0, kMostRitzColumns));
     o.soft_node_deflation =
         g.real("-solver_soft_node_deflation",
                "Deflate around the preconditioner every soft direction of a single node: "
@@ -196,12 +202,28 @@ SolverOptions read_elastic_system_options(MPI_Comm comm) {
              "solves (counted from 1), run one more preconditioned CG that keeps its Lanczos "
              "vectors and write the Ritz values of the preconditioned operator, the residual "
              "history and the 8 slowest Ritz vectors (docs/guide/running.md)",
-             {}, true))
+             {}, true)) {
+      // A solve count: a fraction would be cut, and a count past any run's
+      // would never fire.
+      if (s != std::floor(s) || s > kMaxSpectrumSolve) {
+        std::ostringstream why;
+        why << "option -solver_spectrum_solves: " << s << " is not a solve number (a whole "
+            << "number from 1 to " << kMaxSpectrumSolve << ")";
+        throw InputError(why.str());
+      }
       o.spectrum_solves.push_back(static_cast<std::int64_t>(s));
+    }
     o.spectrum_prefix = g.string("-solver_spectrum_prefix",
                                  "Diagnostic: path prefix of the "
                                  "files of -solver_spectrum_solves",
                                  o.spectrum_prefix);
+    // The probe fires late in a run: a prefix it cannot write is refused now.
+    if (!o.spectrum_solves.empty())
+      run_on_root(comm, [&] {
+        if (const std::string why = unwritable_file(o.spectrum_prefix + "_check"); !why.empty())
+          throw InputError("option -solver_spectrum_prefix = '" + o.spectrum_prefix +
+                           "': the probe's files cannot be written there (" + why + ")");
+      });
   }
   return o;
 }
@@ -226,6 +248,7 @@ SolverOptions read_solver_options(MPI_Comm comm) {
   // are made only after the sample): a value PETSc cannot take fails here,
   // before any work.  With -help, PETSc lists its KSP and PC options, with
   // our defaults as current values.
+  check_petsc_numbers();
   const auto read_solvers = [comm] {
     for (const bool fallback : {false, true}) {
       KspHandle ksp;

@@ -1,5 +1,6 @@
 #include "spectrum_probe.hpp"
 
+#include "lem/base/collective.hpp"
 #include "lem/base/error.hpp"
 #include "lem/base/log.hpp"
 #include "lem/base/petsc_handle.hpp"
@@ -8,8 +9,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
+#include <functional>
 #include <numeric>
+#include <string>
 #include <vector>
 
 namespace lem {
@@ -82,7 +87,8 @@ void tridiagonal_eigen(std::vector<double>& d, std::vector<double> e, std::vecto
   y.swap(ys);
 }
 
-void write_bonds(const DistributedLattice& l, const std::string& path) {
+// (i, j, k) of every intact bond, on rank 0 (empty elsewhere).
+std::vector<double> gather_bonds(const DistributedLattice& l) {
   std::vector<double> mine;  // (i, j, k) per intact bond with an owned first end
   for (int b = 0; b < l.local_bonds(); ++b) {
     const auto [p, q] = l.bond_ends[b];
@@ -100,13 +106,32 @@ void write_bonds(const DistributedLattice& l, const std::string& path) {
   std::vector<double> all(rank == 0 ? offsets.back() + counts.back() : 0);
   MPI_Gatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), offsets.data(), MPI_DOUBLE,
               0, l.comm);
-  if (rank != 0) return;
+  return all;
+}
+
+// A text file written whole or not at all: a failed write (a full disk)
+// removes what was written and throws.
+void write_text(const std::string& path, const std::function<void(FILE*)>& fill) {
   FILE* f = std::fopen(path.c_str(), "w");
-  if (!f) throw InputError("cannot write the spectrum probe's file " + path);
-  std::fprintf(f, "# intact bonds: global node i, global node j, stiffness\n");
-  for (std::size_t i = 0; i < all.size(); i += 3)
-    std::fprintf(f, "%.0f %.0f %.17g\n", all[i], all[i + 1], all[i + 2]);
-  std::fclose(f);
+  if (!f) throw IoError("cannot create " + path + ": " + std::strerror(errno));
+  fill(f);
+  const bool failed = std::ferror(f) != 0;
+  const int saved = errno;
+  if (std::fclose(f) != 0 || failed) {
+    std::remove(path.c_str());
+    throw IoError("writing " + path + " failed: " + std::strerror(failed ? saved : errno));
+  }
+}
+
+// A vector gathered on rank 0 (collective), for a write by rank 0 alone.
+VecHandle on_root(Vec v) {
+  VecScatter scatter = nullptr;
+  VecHandle whole;
+  LEM_PETSC(VecScatterCreateToZero(v, &scatter, whole.replace()));
+  LEM_PETSC(VecScatterBegin(scatter, v, whole, INSERT_VALUES, SCATTER_FORWARD));
+  LEM_PETSC(VecScatterEnd(scatter, v, whole, INSERT_VALUES, SCATTER_FORWARD));
+  LEM_PETSC(VecScatterDestroy(&scatter));
+  return whole;
 }
 
 }  // namespace
@@ -208,30 +233,9 @@ void probe_spectrum(const DistributedLattice& l, Mat K, PC pc, Vec b, Vec u0, do
   }
   const std::vector<double>& history = ritz.history;
 
-  int rank = 0;
-  MPI_Comm_rank(l.comm, &rank);
-  const std::string base = prefix + "_" + std::to_string(solve);
-  if (rank == 0) {
-    FILE* f = std::fopen((base + ".txt").c_str(), "w");
-    if (!f) throw InputError("cannot write the spectrum probe's file " + base + ".txt");
-    std::fprintf(f, "# solve %lld, rtol %g, %d iterations\n", static_cast<long long>(solve), rtol,
-                 m);
-    std::fprintf(f, "# residual: iteration |M^-1 r|/|M^-1 b|\n");
-    for (std::size_t k = 0; k < history.size(); ++k)
-      std::fprintf(f, "residual %zu %.6e\n", k, history[k]);
-    std::fprintf(f, "# ritz: index theta (ascending)  [x^T K x of the kept vectors]\n");
-    for (int k = 0; k < m; ++k) {
-      if (k < kept)
-        std::fprintf(f, "ritz %d %.9e %.9e\n", k, d[k], quotient[k]);
-      else
-        std::fprintf(f, "ritz %d %.9e\n", k, d[k]);
-    }
-    std::fclose(f);
-  }
-
-  // Coordinates in the layout of K, then the kept Ritz vectors.
-  PetscViewer viewer = nullptr;
-  LEM_PETSC(PetscViewerBinaryOpen(l.comm, (base + ".bin").c_str(), FILE_MODE_WRITE, &viewer));
+  // Everything is gathered on rank 0 first (the collectives), then written
+  // by rank 0 alone: a write that fails there (a full disk) leaves no rank
+  // waiting, removes the probe's files and the run goes on.
   VecHandle coords;
   LEM_PETSC(VecDuplicate(b, coords.replace()));
   PetscScalar* c = nullptr;
@@ -239,10 +243,56 @@ void probe_spectrum(const DistributedLattice& l, Mat K, PC pc, Vec b, Vec u0, do
   for (int node = 0; node < l.owned; ++node)
     for (int a = 0; a < 3; ++a) c[3 * node + a] = l.coords[node][a];
   LEM_PETSC(VecRestoreArray(coords, &c));
-  LEM_PETSC(VecView(coords, viewer));
-  for (const VecHandle& v : ritz.vectors) LEM_PETSC(VecView(v, viewer));
-  LEM_PETSC(PetscViewerDestroy(&viewer));
-  write_bonds(l, base + "_bonds.txt");
+  std::vector<VecHandle> whole;
+  whole.push_back(on_root(coords));
+  for (const VecHandle& v : ritz.vectors) whole.push_back(on_root(v));
+  const std::vector<double> bonds = gather_bonds(l);
+
+  int rank = 0;
+  MPI_Comm_rank(l.comm, &rank);
+  const std::string base = prefix + "_" + std::to_string(solve);
+  const std::vector<std::string> files = {base + ".txt", base + ".bin", base + ".bin.info",
+                                          base + "_bonds.txt"};
+  std::string failure;
+  if (rank == 0) {
+    try {
+      write_text(files[0], [&](FILE* f) {
+        std::fprintf(f, "# solve %lld, rtol %g, %d iterations\n", static_cast<long long>(solve),
+                     rtol, m);
+        std::fprintf(f, "# residual: iteration |M^-1 r|/|M^-1 b|\n");
+        for (std::size_t k = 0; k < history.size(); ++k)
+          std::fprintf(f, "residual %zu %.6e\n", k, history[k]);
+        std::fprintf(f, "# ritz: index theta (ascending)  [x^T K x of the kept vectors]\n");
+        for (int k = 0; k < m; ++k) {
+          if (k < kept)
+            std::fprintf(f, "ritz %d %.9e %.9e\n", k, d[k], quotient[k]);
+          else
+            std::fprintf(f, "ritz %d %.9e\n", k, d[k]);
+        }
+      });
+      // Coordinates in the layout of K, then the kept Ritz vectors.
+      PetscViewer viewer = nullptr;
+      LEM_PETSC(PetscViewerBinaryOpen(PETSC_COMM_SELF, files[1].c_str(), FILE_MODE_WRITE, &viewer));
+      PetscErrorCode written = 0;
+      for (const VecHandle& v : whole)
+        if (!written) written = VecView(v, viewer);
+      if (PetscViewerDestroy(&viewer) || written) throw IoError("writing " + files[1] + " failed");
+      write_text(files[3], [&](FILE* f) {
+        std::fprintf(f, "# intact bonds: global node i, global node j, stiffness\n");
+        for (std::size_t i = 0; i < bonds.size(); i += 3)
+          std::fprintf(f, "%.0f %.0f %.17g\n", bonds[i], bonds[i + 1], bonds[i + 2]);
+      });
+    } catch (const std::exception& e) {
+      failure = e.what();
+      for (const std::string& file : files) std::remove(file.c_str());
+    }
+  }
+  failure = broadcast_string(l.comm, failure);
+  if (!failure.empty()) {
+    say("spectrum probe at solve %lld: its files were not written (%s); the run goes on\n",
+        static_cast<long long>(solve), failure.c_str());
+    return;
+  }
   say("spectrum probe at solve %lld: %d iterations, Ritz values %.3e .. %.3e, written to %s.*\n",
       static_cast<long long>(solve), m, m ? d[0] : 0.0, m ? d[m - 1] : 0.0, base.c_str());
 }

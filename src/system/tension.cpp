@@ -94,6 +94,12 @@ void anchor(const Lattice& lattice, const std::vector<std::size_t>& face, Tensio
 TensionConstraints make_tension_constraints(const Lattice& lattice,
                                             const std::vector<std::uint8_t>& faces) {
   const std::size_t nodes = lattice.node_count();
+  const auto on_face = [&](Face f) {
+    return std::count_if(faces.begin(), faces.end(), [f](std::uint8_t x) { return (x & f) != 0; });
+  };
+  if (const std::string problem = empty_face_problem(on_face(kZmin), on_face(kZmax));
+      !problem.empty())
+    throw InputError(problem);
   TensionConstraints tc;
   tc.dof_flags.assign(nodes, 0);
   for (std::size_t n = 0; n < nodes; ++n) {

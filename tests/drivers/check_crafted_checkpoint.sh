@@ -1,7 +1,8 @@
 #!/bin/bash
 # A checkpoint that passes its checksum but does not fit the run is refused
 # (exit 1, the file and the bad value named) instead of being resumed: wrong
-# sizes, non-finite values, ids out of range, batches out of order.  The
+# sizes, non-finite values, ids out of range, batches out of order, a learnt
+# space wider than -solver_ritz_deflation keeps or not finite.  The
 # checkpoint comes from a run stopped by a failing solve (the 40th, by the
 # test hook LEM_FAULT_SOLVE_FAIL: exit 2, no signal needed);
 # tests/drivers/craft_checkpoint.py rewrites it with one value
@@ -21,7 +22,7 @@ status=$?
 # Each case in its own copy of the folder; the runs wait mostly for MPI to
 # start, so they go side by side.
 cases=(short_displacement nan_displacement short_check_field bond_broken_twice node_out_of_range
-       batch_beyond_state bond_not_in_sample unchanged)
+       batch_beyond_state bond_not_in_sample space_too_wide nan_in_space unchanged)
 for case in "${cases[@]}"; do
   cp -r "$work/source" "$work/$case"
   "${craft[@]}" "$work/source/checkpoint.bin" "$work/$case/checkpoint.bin" "$case" ||
@@ -46,6 +47,8 @@ expect bond_broken_twice "$valid \(bond [0-9]+ is broken twice\)"
 expect node_out_of_range "$valid \(node event 0 pins node 956, not one of the 951 nodes\)"
 expect batch_beyond_state "$valid \(bond event [0-9]+ is in batch 1000000, out of order"
 expect bond_not_in_sample "breaks bond 1000000000 \(its bond event 2\), which is not a bond of this sample"
+expect space_too_wide "$valid \(65 learnt deflation vectors, more than the 64 -solver_ritz_deflation keeps\)"
+expect nan_in_space "$valid \(learnt deflation vector 0 value 7 is not finite\)"
 # The same file rewritten unchanged resumes and finishes.
 [ "$(cat "$work/unchanged.status")" -eq 0 ] ||
   fail "the unchanged checkpoint did not resume: $(tail -2 "$work/unchanged.log")"

@@ -13,6 +13,16 @@
 #   restart_ranks   a 2-rank run stopped by SIGUSR1 resumes on 1 rank: same
 #                   ruptures, curves within 2e-6 of the peak (1e-7 when every
 #                   load step ends on -ksp_rtol)
+#   restart_sample  the shipped mini sample to 1.5 times its peak strain: a
+#                   2-rank run stopped between two relaxation cycles by
+#                   SIGUSR1, and one killed there by kill -9, resume on 2
+#                   ranks byte for byte
+#   restart_learnt  a solver option that learns between solves (named by the
+#                   first word of LEM_CASE_ARGS): a 2-rank run stopped between
+#                   two relaxation cycles by SIGUSR1, and one killed there by
+#                   kill -9, are refused on 1 rank (exit 1, naming the
+#                   option, the checkpoint kept) and resume on 2 byte for
+#                   byte, the learnt state restored
 #   operators       2 ranks, CG multiplying bond by bond (-solver_operator
 #                   bonds) breaks the bonds the assembled K breaks, in the
 #                   same order; curves within 2e-6 of the peak
@@ -88,6 +98,44 @@ wait_for_checkpoint() {  # DIR: until a checkpoint with some ruptures behind it 
     sleep 0.05
   done
   return 1
+}
+stop_in_cycle() {  # stop_in_cycle HOW PASS DIR [args]: a 2-rank run held at the PASS-th
+  # relaxation-cycle check (LEM_FAULT_PAUSE), then stopped by SIGUSR1 (exit 4,
+  # a checkpoint of the equilibrium before the step) or killed by kill -9
+  # (every process, as a batch system would: the last periodic checkpoint)
+  local how="$1" pass="$2" dir="$3" status; shift 3
+  mkdir -p "$dir"
+  LEM_FAULT_PAUSE=relaxation_cycle:$pass setsid "${mpi[@]}" -n 2 "$prog" "${case_args[@]}" \
+    -output_dir "$dir" "$@" > "$dir/log1" 2>&1 &
+  local leader=$!
+  for _ in $(seq 1 1200); do
+    [ "$(grep -c '^test hook: rank .* paused at' "$dir/log1")" -ge 2 ] && break
+    kill -0 "$leader" 2> /dev/null || fail "$how: the run ended before the pause: $(tail -3 "$dir/log1")"
+    sleep 0.1
+  done
+  if [ "$how" = SIGUSR1 ]; then
+    kill -USR1 "$leader"; wait "$leader"; status=$?
+    [ "$status" -eq 4 ] || fail "SIGUSR1: exit $status, expected 4: $(tail -3 "$dir/log1")"
+    grep -q "stopped by SIGUSR1 in the relaxation of step" "$dir/log1" ||
+      fail "not stopped between relaxation cycles: $(tail -3 "$dir/log1")"
+  else
+    kill -9 -- -"$leader"
+    pkill -9 -f -- "-output_dir $dir " 2> /dev/null
+    wait "$leader" 2> /dev/null
+    while pgrep -f -- "-output_dir $dir " > /dev/null; do sleep 0.05; done
+  fi
+  [ -s "$dir/checkpoint.bin" ] || fail "$how: no checkpoint"
+}
+use_mini_sample() {  # every run on the shipped mini sample to 1.5 times its peak strain
+  local root; root="$(cd "$(dirname "$0")/../.." && pwd)"
+  # shellcheck disable=SC2206
+  case_args=(-sample_file "$root/meshes/mini.h5" -fracture_calibrate 0
+             -fracture_max_strain_ratio 1.5 -output_fields false ${LEM_CASE_ARGS:-})
+}
+same_as() {  # same_as WHOLE DIR: curve (but the wall time) and log byte for byte
+  diff <(cut -d, -f1-22 "$1/curve.csv") <(cut -d, -f1-22 "$2/curve.csv") > /dev/null ||
+    fail "$2: the resumed curve differs from the uninterrupted one"
+  cmp -s "$1/broken.csv" "$2/broken.csv" || fail "$2: the resumed broken-bond log differs"
 }
 rm -rf "$work"; mkdir -p "$work"
 
@@ -415,6 +463,61 @@ restart_ranks)
   compare_curves "$work/cut" "$work/whole" "$decided"
   echo "ok: $(grep '^resumed' "$work/cut/log") on 1 rank; the same $(summary "$work/cut" broken) ruptures"
   ;;
+restart_learnt)
+  # What the option learnt is in the checkpoint: the resume on the rank
+  # count that learnt it is the uninterrupted run, byte for byte; another
+  # rank count is refused by name (it cannot carry on learning as either
+  # uninterrupted run would).
+  # shellcheck disable=SC2206
+  case_words=(${LEM_CASE_ARGS:?restart_learnt needs the option in LEM_CASE_ARGS})
+  option="${case_words[0]}"
+  args=(-checkpoint_steps 1 -checkpoint_seconds 0)
+  run 2 "$work/whole" "${args[@]}" || fail "uninterrupted run: $(tail -3 "$work/whole/log")"
+  refused_then_resumed() {  # DIR HOW: refused on 1 rank, then resumed on 2
+    local dir="$1" how="$2" status
+    cp "$dir/checkpoint.bin" "$work/kept.bin"
+    run 1 "$dir" "${args[@]}"; status=$?
+    [ "$status" -eq 1 ] ||
+      fail "$how: resumed on 1 rank with exit $status, expected a refusal: $(tail -3 "$dir/log")"
+    grep -q -- "$option" "$dir/log" || fail "$how: the refusal does not name $option: $(tail -3 "$dir/log")"
+    cmp -s "$dir/checkpoint.bin" "$work/kept.bin" || fail "$how: the refused resume changed the checkpoint"
+    [ ! -e "$dir/summary.json" ] || fail "$how: the refused resume wrote a summary"
+    echo "ok: $how, on 1 rank: $(grep -m1 -- "$option" "$dir/log")"
+    run 2 "$dir" "${args[@]}" || fail "$how: resumed run: $(tail -3 "$dir/log")"
+    grep -q "^resumed from" "$dir/log" || fail "$how: the rerun did not resume: $(head -3 "$dir/log")"
+    # Nothing learnt, nothing tested.
+    grep -qE "^resumed .*: [1-9][0-9]* learnt" "$dir/log" ||
+      fail "$how: no learnt state in the checkpoint: $(grep '^resumed' "$dir/log")"
+    same_as "$work/whole" "$dir"
+    echo "ok: $how, on 2 ranks: $(grep '^resumed' "$dir/log" | tr '\n' ' ')identical to the uninterrupted run"
+  }
+  # Both runs are held between two relaxation cycles of step 28 (the
+  # space is empty until step 22 of this lattice, then grows), with a
+  # checkpoint of step 26 on disk: it holds what was learnt up to that
+  # step, not what the solves of step 28 learnt since.
+  for how in SIGUSR1 kill; do
+    stop_in_cycle "$how" 75 "$work/$how" "${args[@]}"
+    grep -q "stopped by SIGUSR1 in the relaxation of step 28" "$work/$how/log1" ||
+      [ "$how" = kill ] || fail "not stopped in step 28: $(tail -3 "$work/$how/log1")"
+    refused_then_resumed "$work/$how" "$how in step 28"
+  done
+  ;;
+restart_sample)
+  # The shipped mini sample with the options of LEM_CASE_ARGS to 1.5 times
+  # its peak strain: a 2-rank run stopped between relaxation cycles by
+  # SIGUSR1, and one killed there by kill -9, resume on 2 ranks byte for byte.
+  use_mini_sample
+  args=(-checkpoint_steps 1 -checkpoint_seconds 0)
+  run 2 "$work/whole" "${args[@]}" || fail "uninterrupted run: $(tail -3 "$work/whole/log")"
+  for how in SIGUSR1 kill; do
+    # The 60th check: in step 133, 1 342 ruptures behind it.
+    stop_in_cycle "$how" 60 "$work/$how" "${args[@]}"
+    run 2 "$work/$how" "${args[@]}" || fail "$how: resumed run: $(tail -3 "$work/$how/log")"
+    grep -q "^resumed from" "$work/$how/log" || fail "$how: the rerun did not resume"
+    same_as "$work/whole" "$work/$how"
+    echo "ok: $how: $(grep '^resumed from' "$work/$how/log"); identical to the uninterrupted run"
+  done
+  ;;
 decided_closing)
   # Measured 2026-11-26: the same 3 921 ruptures, curves 4.8e-6 of the peak
   # apart, 66 steps ended on decided fields; with the certificate taken away
@@ -449,10 +552,7 @@ deflation)
   # (-solver_particle_deflation) a 2-rank run stopped by SIGUSR1 and resumed
   # on 1 rank breaks the bonds the plain multigrid breaks on 2 ranks, in the
   # same order, with the same curve (within the solver tolerance).
-  root="$(cd "$(dirname "$0")/../.." && pwd)"
-  # shellcheck disable=SC2206
-  case_args=(-sample_file "$root/meshes/mini.h5" -fracture_calibrate 0
-             -fracture_max_strain_ratio 1.5 -output_fields false ${LEM_CASE_ARGS:-})
+  use_mini_sample
   args=(-checkpoint_steps 4 -checkpoint_seconds 0)
   run 2 "$work/plain" "${args[@]}" || fail "plain run: $(tail -3 "$work/plain/log")"
   mkdir -p "$work/cut"

@@ -18,7 +18,9 @@
 #                  the same command: the complete result, equal to a run
 #                  never killed
 #   short_log      a resume whose broken.csv.part is shorter than the
-#                  checkpoint records is refused, naming the file
+#                  checkpoint records, or whose broken.csv.part or curve.csv
+#                  has other content than it recorded (one byte changed, the
+#                  size kept), is refused, naming the file
 #   overwrite_kill kill -9 of an -output_overwrite run mid-run (LEM_FAULT_PAUSE)
 #                  and at each step of its commit and of putting the new
 #                  result in place (LEM_FAULT_KILL): until the new result is
@@ -200,6 +202,23 @@ commit_kill)
 short_log)
   LEM_FAULT_KILL=before_manifest run "$work/cut"
   [ -s "$work/cut/checkpoint.bin" ] || fail "no checkpoint to resume"
+  # One byte of a log changed within what the checkpoint recorded, at the
+  # same size: broken.csv as the .part it is while the run goes on,
+  # curve.csv under the final name the kill left (the resume takes it back).
+  for f in broken.csv curve.csv; do
+    d="$work/edited_${f%.csv}"
+    cp -a "$work/cut" "$d"
+    [ "$f" = broken.csv ] && mv "$d/$f" "$d/$f.part"
+    log="$d/$f"; [ -e "$log" ] || log="$d/$f.part"
+    byte=$(od -An -tu1 -j 150 -N1 "$log" | tr -d ' ')
+    printf "\\$(printf %o $(( (byte + 1) % 256 )))" | dd of="$log" bs=1 seek=150 conv=notrunc 2> /dev/null
+    cp "$log" "$d.edited"
+    run "$d" && fail "a resume with an edited $f was accepted"
+    grep -q "$f.part' has other content than the checkpoint recorded (checksum crc32:[0-9a-f]* of its first [0-9]* bytes, the checkpoint says crc32:[0-9a-f]*); remove the checkpoint to start over" "$d.log" ||
+      fail "message for an edited $f: $(tail -2 "$d.log")"
+    cmp -s "$d/$f.part" "$d.edited" || fail "the refused resume changed $f.part"
+    echo "ok: $(grep -o "[^/]*.part' has other content.*" "$d.log")"
+  done
   mv "$work/cut/broken.csv" "$work/cut/broken.csv.part"
   truncate -s 100 "$work/cut/broken.csv.part"
   run "$work/cut" && fail "a resume with a short broken.csv.part was accepted"

@@ -3,15 +3,17 @@ checksums, for the tests that a checkpoint is checked beyond its checksums.
 
 Usage: craft_checkpoint.py SOURCE TARGET CASE      (--list: the cases)
 
-The layout (src/protocol/checkpoint.cpp, version 4): the head -- 8 magic
+The layout (src/protocol/checkpoint.cpp, version 6): the head -- 8 magic
 bytes, the length of the rest of the head as u64, the state (its size as
 u64, then its bytes), the fingerprint (u64 length, text), the damage
 history (bond events, bond batches, node events, node batches, builds: each
 u64 count then int64 values), the value counts of the displacement and of
-the check field (u64 each; 0 for no check field), the 64-bit FNV-1a
-checksum of all of it -- then the displacement and the check field by node
-id (doubles), then the order-free checksum of those values: the sum modulo
-2**64 of mix64(mix64(k) ^ bits) over value k of the two fields.
+the check field (u64 each; 0 for no check field), the number of columns of
+the learnt deflation space (u64), the 64-bit FNV-1a checksum of all of it
+-- then the displacement, the check field and each column of the learnt
+space by node id (doubles, as many as the displacement each), then the
+order-free checksum of those values: the sum modulo 2**64 of
+mix64(mix64(k) ^ bits) over value k of all of them in that order.
 """
 import argparse
 import struct
@@ -69,15 +71,24 @@ def parse(data):
         c[name] = list(struct.unpack_from("<%dq" % n, data, pos))
         pos += 8 * n
     counts = u64(), u64()
+    columns = u64()
     if pos != head_end or u64() != fnv1a(data[:head_end]):
         raise SystemExit("not a checkpoint of this layout (or its head checksum is wrong)")
     for name, n in zip(("displacement", "check_displacement"), counts):
         c[name] = list(struct.unpack_from("<%dd" % n, data, pos))
         pos += 8 * n
-    if pos + 8 != len(data) or u64() != field_checksum(c["displacement"] +
-                                                       c["check_displacement"]):
+    c["space"] = []
+    for _ in range(columns):
+        c["space"].append(list(struct.unpack_from("<%dd" % counts[0], data, pos)))
+        pos += 8 * counts[0]
+    if pos + 8 != len(data) or u64() != field_checksum(fields(c)):
         raise SystemExit("not a checkpoint of this layout (or its field checksum is wrong)")
     return c
+
+
+def fields(c):
+    """Every field value in the order of the file."""
+    return c["displacement"] + c["check_displacement"] + [v for w in c["space"] for v in w]
 
 
 def build(c):
@@ -86,12 +97,13 @@ def build(c):
     body += struct.pack("<Q", len(c["relaxation_state"])) + c["relaxation_state"]
     for name in VECTORS:
         body += struct.pack("<Q%dq" % len(c[name]), len(c[name]), *c[name])
-    body += struct.pack("<QQ", len(c["displacement"]), len(c["check_displacement"]))
+    body += struct.pack("<QQQ", len(c["displacement"]), len(c["check_displacement"]),
+                        len(c["space"]))
     out = bytearray(c["magic"]) + struct.pack("<Q", len(body)) + body
     out += struct.pack("<Q", fnv1a(out))
-    for name in ("displacement", "check_displacement"):
-        out += struct.pack("<%dd" % len(c[name]), *c[name])
-    out += struct.pack("<Q", field_checksum(c["displacement"] + c["check_displacement"]))
+    values = fields(c)
+    out += struct.pack("<%dd" % len(values), *values)
+    out += struct.pack("<Q", field_checksum(values))
     return bytes(out)
 
 
@@ -131,9 +143,19 @@ def batch_beyond_state(c):
     c["bond_batches"][-1] = 10 ** 6
 
 
+def space_too_wide(c):
+    c["space"] = [[0.0] * len(c["displacement"]) for _ in range(65)]
+
+
+def nan_in_space(c):
+    c["space"] = [[1.0] * len(c["displacement"])]
+    c["space"][0][7] = float("inf")
+
+
 CASES = {f.__name__: f for f in (short_displacement, nan_displacement, short_check_field,
                                   bond_not_in_sample,
-                                  bond_broken_twice, node_out_of_range, batch_beyond_state)}
+                                  bond_broken_twice, node_out_of_range, batch_beyond_state,
+                                  space_too_wide, nan_in_space)}
 
 
 def main(argv=None):

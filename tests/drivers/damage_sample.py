@@ -62,6 +62,32 @@ def node_phase(f):
     f["nodes/phase"][NODE] = 7
 
 
+def stiffness(value):
+    def damage(f):
+        f["bonds/stiffness"][BOND] = value
+    return damage
+
+
+def swapped_stiffness(f):
+    """Bond BOND's stiffness and the node volume table swapped in: values
+    that are finite and positive, but not the lattice's stiffness."""
+    f["bonds/stiffness"][BOND] = f["nodes/volume"][NODE]
+
+
+def single_precision_coordinates(f):
+    """The coordinates stored as float32, as a careless conversion does."""
+    values = f["nodes/coordinates"][...].astype(np.float32)
+    del f["nodes/coordinates"]
+    f.create_dataset("nodes/coordinates", data=values)
+
+
+def taller_box(f):
+    """The box 1e-9 taller than its nodes: no node lies on the top face."""
+    hi = f.attrs["box_hi"].copy()
+    hi[2] += 1e-9 * (hi[2] - f.attrs["box_lo"][2]) * 10
+    f.attrs["box_hi"] = hi
+
+
 def resize(f, group, rows):
     """Every dataset of `group` with `rows` rows, chunked and never written:
     the file stays small whatever the count."""
@@ -98,6 +124,11 @@ CASES = {
     "volumes_off": volumes_off,
     "bad_bond_phase": bond_phase,
     "bad_node_phase": node_phase,
+    "nan_stiffness": stiffness(np.nan),
+    "negative_stiffness": stiffness(-1.0),
+    "swapped_stiffness": swapped_stiffness,
+    "single_precision_coordinates": single_precision_coordinates,
+    "taller_box": taller_box,
     "huge_node_count": huge_node_count,
     "huge_bond_count": huge_bond_count,
 }

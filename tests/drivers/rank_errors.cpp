@@ -24,6 +24,11 @@ PetscErrorCode petsc_failure(MPI_Comm comm) {
 
 int main(int argc, char** argv) {
   const std::string mode = argc > 1 ? argv[1] : "";
+  // The mode is this program's word, not an option: run_driver sees the rest.
+  if (argc > 1) {
+    for (int i = 2; i < argc; ++i) argv[i - 1] = argv[i];
+    argv[--argc] = nullptr;
+  }
   return lem::run_driver(argc, argv, "Errors on some ranks (a test).\n", [&](MPI_Comm comm) {
     int rank = 0;
     MPI_Comm_rank(comm, &rank);

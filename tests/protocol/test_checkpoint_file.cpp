@@ -26,7 +26,8 @@ double value_of(std::int64_t id, int a, int field) {
   return 1e-3 * static_cast<double>(id) + 0.25 * a - 7.0 * field;
 }
 
-Checkpoint checkpoint_of(const std::vector<std::int64_t>& ids, bool check_field) {
+Checkpoint checkpoint_of(const std::vector<std::int64_t>& ids, bool check_field,
+                         int learnt_columns = 0) {
   Checkpoint c;
   c.state.tally.steps = 17;
   c.state.batches = 2;
@@ -34,10 +35,13 @@ Checkpoint checkpoint_of(const std::vector<std::int64_t>& ids, bool check_field)
       "ranks=" + std::to_string(world_size()) + "\nnodes=" + std::to_string(kNodes) + "\n";
   c.damage.bond_events = {4, 9};
   c.damage.bond_batches = {1, 2};
+  c.learnt_space.resize(static_cast<std::size_t>(learnt_columns));
   for (const std::int64_t id : ids)
     for (int a = 0; a < 3; ++a) {
       c.displacement.push_back(value_of(id, a, 0));
       if (check_field) c.check_displacement.push_back(value_of(id, a, 1));
+      for (int j = 0; j < learnt_columns; ++j)
+        c.learnt_space[static_cast<std::size_t>(j)].push_back(value_of(id, a, 2 + j));
     }
   return c;
 }
@@ -91,26 +95,34 @@ void expect_refused_everywhere(const std::string& path, const std::string& why) 
 
 TEST(CheckpointFile, AnotherPartitionReadsItsNodesById) {
   for (const bool check_field : {false, true}) {
+    // A learnt space of two columns with the check field.
+    const int columns = check_field ? 2 : 0;
     const std::string path = shared_path("partition.bin");
-    write_checkpoint_file(PETSC_COMM_WORLD, path, checkpoint_of(strided_ids(), check_field),
-                          strided_ids());
+    write_checkpoint_file(PETSC_COMM_WORLD, path,
+                          checkpoint_of(strided_ids(), check_field, columns), strided_ids());
     const auto mine = block_ids();
     const Checkpoint c = read_checkpoint_file(PETSC_COMM_WORLD, path, mine);
     EXPECT_EQ(c.state.tally.steps, 17);
     EXPECT_EQ(c.damage.bond_events, (std::vector<std::int64_t>{4, 9}));
     ASSERT_EQ(c.displacement.size(), 3 * mine.size());
     ASSERT_EQ(c.check_displacement.size(), check_field ? 3 * mine.size() : 0);
+    ASSERT_EQ(c.learnt_space.size(), static_cast<std::size_t>(columns));
     for (std::size_t n = 0; n < mine.size(); ++n)
       for (int a = 0; a < 3; ++a) {
         ASSERT_EQ(c.displacement[3 * n + a], value_of(mine[n], a, 0)) << "node " << mine[n];
         if (check_field) {
           ASSERT_EQ(c.check_displacement[3 * n + a], value_of(mine[n], a, 1)) << mine[n];
         }
+        for (int j = 0; j < columns; ++j)
+          ASSERT_EQ(c.learnt_space[static_cast<std::size_t>(j)][3 * n + a],
+                    value_of(mine[n], a, 2 + j))
+              << "node " << mine[n] << ", column " << j;
       }
     // Exactly its head, 8 bytes per value and the field checksum: no value twice.
+    const auto fields = static_cast<std::uintmax_t>(1 + (check_field ? 1 : 0) + columns);
     const auto size = std::filesystem::file_size(path);
-    EXPECT_GT(size, (check_field ? 2 : 1) * 24 * kNodes + 8);
-    EXPECT_LT(size, (check_field ? 2 : 1) * 24 * kNodes + 8 + 1000);
+    EXPECT_GT(size, fields * 24 * kNodes + 8);
+    EXPECT_LT(size, fields * 24 * kNodes + 8 + 1000);
     MPI_Barrier(PETSC_COMM_WORLD);
     if (world_rank() == 0) std::remove(path.c_str());
   }

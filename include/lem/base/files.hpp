@@ -31,6 +31,11 @@ void write_text_file_atomically(const std::string& path, const std::string& text
 /// The same for `size` bytes at `data`.
 void write_file_atomically(const std::string& path, const void* data, std::size_t size);
 
+/// Why write_file_atomically(path, ...) would fail ("" if it would not):
+/// the temporary <path>.tmp is created and removed.  Lets a program refuse
+/// an unwritable output before the work that fills it.
+std::string unwritable_file(const std::string& path);
+
 /// Publish a complete file written under a temporary name `from` (in the
 /// same directory as `to`): sync it, rename it onto `to`, sync the directory.
 /// Throws IoError naming both files on failure (`from` is removed).
@@ -77,6 +82,11 @@ std::uint32_t crc32(const void* data, std::size_t n, std::uint32_t crc = 0);
 /// The checksum of a file's content, "crc32:<8 hex digits>"; IoError naming
 /// the file if it cannot be read.
 std::string file_checksum(const std::string& path);
+/// crc32() of the first `bytes` bytes of a file (fewer if it is shorter);
+/// IoError naming the file if it cannot be read.
+std::uint32_t file_prefix_crc32(const std::string& path, std::uint64_t bytes);
+/// A CRC-32 as file_checksum writes it.
+std::string crc32_text(std::uint32_t crc);
 
 /// The commit record of a finished result: <dir>/manifest.txt lists the
 /// program, a fingerprint of what was computed and every result file with

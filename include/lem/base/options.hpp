@@ -97,6 +97,11 @@ class OptionGroup {
 /// the stack overflows.
 std::string unreadable_options_file(int argc, char** argv);
 
+/// Before PETSc starts: a command-line word that is neither an option (a
+/// dash and a letter) nor the one value that follows it, as an error message
+/// naming it ("" if there is none).  PETSc would drop it silently.
+std::string stray_command_line_word(int argc, char** argv);
+
 /// Before any work: every option in the database must be one the program
 /// has read (registered) or one under a prefix that PETSc consumes (-ksp_*,
 /// -pc_*, -mat_*, -log_*, -fallback_*, ...).  Others are reported at once,
@@ -116,6 +121,12 @@ void check_type_option(const char* name, PetscFunctionList types, const char* ki
 /// rethrown as InputError naming the option(s) whose value PETSc's message
 /// quotes, with that message.
 void read_petsc_options(const std::function<void()>& read);
+
+/// Before any PETSc object reads its options: every PETSc option whose
+/// value is a number must be finite, and the solver's tolerances and
+/// iteration counts (-ksp_rtol, -ksp_atol, -ksp_divtol, -ksp_max_it, under
+/// any prefix) in their ranges; InputError naming the option otherwise.
+void check_petsc_numbers();
 
 /// PETSc ignores a numeric option given without its value (-ksp_rtol alone
 /// runs with the default).  `read` reads the options as the solver objects

@@ -11,6 +11,7 @@
 
 #include <array>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace lem {
@@ -115,6 +116,11 @@ enum Face : std::uint8_t { kXmin = 1, kXmax = 2, kYmin = 4, kYmax = 8, kZmin = 1
 std::vector<std::uint8_t> face_flags(const Lattice& lattice, double tol = 1e-9);
 /// The Face bits of one point.
 std::uint8_t faces_of(const Point& p, const Box& box, double tol = 1e-9);
+/// Why the lattice cannot be pulled between its z faces when `bottom` or
+/// `top` nodes lie on them ("" if both are some): a box that does not fit
+/// its nodes (an edited box, rounded coordinates) leaves a face empty,
+/// which would otherwise read as a disconnected sample.
+std::string empty_face_problem(std::int64_t bottom, std::int64_t top);
 /// What halve_face_bonds keeps of a bond whose ends touch these faces: 1/2
 /// per face the two share.
 double face_share(std::uint8_t faces_i, std::uint8_t faces_j);

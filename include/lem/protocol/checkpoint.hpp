@@ -1,15 +1,16 @@
 // Checkpoints of a fracture run (the signals that ask for one: lem/base/stop.hpp).
 //
 // A checkpoint holds the state at the last equilibrium (counters, the damage
-// history, displacements by lattice node id) and a fingerprint of the sample
-// and of the options that change the results.  The file is binary: a head
-// (a magic word, the state as bytes with its size, the rest length-prefixed,
-// an FNV-1a checksum), then the fields by node id, then an order-free
-// checksum of their values.  Every rank writes and reads the rows of its own
-// nodes (MPI-IO), so no rank ever holds the whole field, and another rank
-// count reads it by id; it is written whole or not at all.
+// history, displacements and what the solver learnt, by lattice node id) and
+// a fingerprint of the sample and of the options that change the results.
+// The file is binary: a head (a magic word, the state as bytes with its size,
+// the rest length-prefixed, an FNV-1a checksum), then the fields by node id,
+// then an order-free checksum of their values.  Every rank writes and reads
+// the rows of its own nodes (MPI-IO), so no rank ever holds the whole field,
+// and another rank count reads it by id; it is written whole or not at all.
 #pragma once
 
+#include "lem/base/petsc_handle.hpp"
 #include "lem/system/distributed_lattice.hpp"
 #include "lem/protocol/damage_ledger.hpp"
 #include "lem/protocol/fingerprint.hpp"
@@ -35,6 +36,9 @@ struct Checkpoint {
   // The check field of a decided field (ElasticSystem::mark_check), as the
   // displacement; empty when the displacement is an equilibrium.
   std::vector<double> check_displacement;
+  // What the solver learnt (ElasticSystem::learnt_space), each column as
+  // the displacement.
+  std::vector<std::vector<double>> learnt_space;
 };
 
 /// Collective: write `checkpoint` to `path` (through <path>.tmp).  Its fields
@@ -67,11 +71,14 @@ class CheckpointStore {
 
   bool exists() const;
   /// Read, check the fingerprint; each rank gets its own nodes' fields.  Throws InputError
-  /// naming what differs.  Says so when the rank count changed.
-  Checkpoint load() const;
-  /// Remember the state at this equilibrium (owned displacements).
+  /// naming what differs, and naming `learning_option` (ElasticSystem::learning_option) when
+  /// the rank count changed under it.  Otherwise says so when the rank count changed.
+  Checkpoint load(const std::string& learning_option) const;
+  /// Remember the state at this equilibrium (owned displacements, the
+  /// solver's learnt space as shared columns).
   void hold(const FractureState& state, std::string relaxation_state, const DamageMark& damage,
-            std::vector<double> owned_u, std::vector<double> owned_check);
+            std::vector<double> owned_u, std::vector<double> owned_check,
+            std::vector<VecHandle> learnt_space);
   /// Write the held state.
   void save(const DamageLedger& ledger) const;
   const FractureState& held_state() const { return held_.state; }
@@ -87,6 +94,7 @@ class CheckpointStore {
     std::string relaxation_state;
     DamageMark damage;
     std::vector<double> u, check;  // owned values (check: empty at an equilibrium)
+    std::vector<VecHandle> learnt_space;
   } held_;
 };
 

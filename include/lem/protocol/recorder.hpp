@@ -3,7 +3,8 @@
 // curve.json), every rupture (broken.csv),
 // field snapshots and the fields of the first equilibrium.  The CSV files
 // grow as <name>.part and are renamed when the run is complete; on resume
-// they are cut back to the lengths recorded with the checkpoint.  Every
+// they are cut back to the lengths recorded with the checkpoint, once what
+// they hold up to there is what it recorded (a CRC-32 of each).  Every
 // write is checked: a failure is remembered on rank 0 and raised on every
 // rank as an IoError naming the file at the next collective call (marks,
 // sync, finish), before anything is renamed.
@@ -72,6 +73,7 @@ class FractureRecorder {
   struct Stream {
     File file;
     std::string final_path, error;
+    std::uint32_t crc = 0;  // CRC-32 of every byte written to the file so far
     std::string part() const { return final_path + ".part"; }
     void open(const char* mode);
     void print(const char* format, ...) __attribute__((format(printf, 2, 3)));
@@ -81,6 +83,9 @@ class FractureRecorder {
     void sync();
     void close();
   };
+
+  /// Rank 0 of a resumed run: the log as the checkpoint recorded it, or InputError.
+  void take_back(const Stream& stream, std::int64_t bytes, std::uint32_t crc);
 
   const DistributedLattice& lattice_;
   const ElasticSystem& system_;

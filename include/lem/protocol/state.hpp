@@ -43,9 +43,11 @@ struct PreconditionerState {
 };
 
 /// Lengths of the result files that belong to the state (rows written
-/// after it are dropped on resume).
+/// after it are dropped on resume), and the CRC-32 of those bytes (a log
+/// edited since is refused, not sealed into the result).
 struct ResultFileMarks {
   std::int64_t curve_bytes = 0, broken_bytes = 0;
+  std::uint32_t curve_crc = 0, broken_crc = 0;
 };
 
 struct FractureState {

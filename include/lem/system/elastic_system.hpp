@@ -30,6 +30,9 @@ class SingleCycle;
 class RitzDeflation;
 class SoftNodeDeflation;
 
+/// The most columns -solver_ritz_deflation keeps (and a checkpoint holds).
+constexpr int kMostRitzColumns = 64;
+
 /// The operator CG applies: the assembled matrix K, or K applied bond by bond
 /// (the preconditioner is built from the assembled K either way).
 enum class SolverOperator { assembled, bonds };
@@ -212,6 +215,18 @@ class ElasticSystem {
   double top_displacement() const { return current_displacement_; }
   void set_state(const std::vector<double>& owned, double top_displacement,
                  const std::vector<double>& owned_check = {});
+  /// What the solver learnt from the solves so far, which a resumed run
+  /// needs to solve as the uninterrupted one: the deflation space of
+  /// -solver_ritz_deflation, its columns shared (a column never changes once
+  /// learnt); empty without the option.
+  std::vector<VecHandle> learnt_space() const;
+  /// A resumed run: the learnt space, each column as this rank's owned
+  /// values (laid out as solution()); ignored without the option.
+  void restore_learnt_space(const std::vector<std::vector<double>>& columns);
+  /// The option that learns between solves ("" if none): what it learns
+  /// depends on the rank count, so a checkpoint of another rank count
+  /// cannot be continued as either uninterrupted run would.
+  std::string learning_option() const;
 
   /// Relax only the given owned nodes (every other displacement held): solve
   /// K_PP du_P = r_P for the out-of-balance forces r = b - K u of the current
