@@ -107,12 +107,44 @@ def test_study_command_line(tmp_path):
     done = run_script("study.py", "plan", str(path), str(tmp_path / "out"), "--ranks", "0")
     assert done.returncode == 1
     assert done.stderr == "study.py: error: --ranks 0 is not a positive integer\n"
+    for ranks in ("1000001", "100000000000000000000"):
+        done = run_script("study.py", "plan", str(path), str(tmp_path / "out"), "--ranks", ranks)
+        assert done.returncode == 1
+        assert done.stderr == ("study.py: error: --ranks %s is not a positive integer up to "
+                               "1000000\n" % ranks)
+    absurd = tmp_path / "absurd.yaml"
+    absurd.write_text(path.read_text().replace("ranks: 1", "ranks: 100000000000000000000"))
+    done = run_script("study.py", "plan", str(absurd), str(tmp_path / "absurd"))
+    assert done.returncode == 1
+    assert done.stderr == ("study.py: error: study file %s: ranks must be a positive integer up "
+                           "to 1000000, not 100000000000000000000\n" % absurd)
+    assert not os.path.exists(tmp_path / "absurd")
     done = run_script("study.py", "plan", str(path), str(tmp_path / "out"), "--ranks", "true")
     assert done.returncode == 2 and "invalid int value: 'true'" in done.stderr
     done = run_script("study.py", "plans", str(path), str(tmp_path / "out"))
     assert done.returncode == 2 and "invalid choice: 'plans'" in done.stderr
     done = run_script("study.py", "status", str(path), str(tmp_path / "out"))
     assert done.returncode == 1 and "0 complete, 0 failed, 1 pending" in done.stdout
+
+
+@pytest.mark.parametrize("script, args, what", [
+    ("combine_studies.py", ["OUT", "STUDY"], "the output folder"),
+    ("increment_table.py", ["DATA", "--out", "OUT"], "the output folder (--out)"),
+    ("scaling.py", ["run", "SAMPLE", "OUT", "--ranks", "1"], "the output folder"),
+])
+def test_an_output_folder_that_is_a_file_is_named(script, args, what, tmp_path):
+    """Not os.makedirs' "[Errno 17] File exists" (or "[Errno 20] Not a
+    directory" below it): the folder named, the user's file left alone."""
+    out = tmp_path / "out"
+    out.write_text("a file of the user's\n")
+    (tmp_path / "sample.h5").write_text("")
+    paths = {"STUDY": str(tmp_path), "DATA": str(tmp_path), "SAMPLE": str(tmp_path / "sample.h5")}
+    for target, named in ((out, str(out)), (out / "sub", "%s: %s" % (out / "sub", out))):
+        done = run_script(script, *[str(target) if a == "OUT" else paths.get(a, a) for a in args])
+        assert done.returncode == 1
+        assert done.stderr == ("%s: error: %s %s is a file, not a folder: choose another path\n"
+                               % (script, what, named))
+    assert out.read_text() == "a file of the user's\n"
 
 
 def package_imports():

@@ -9,7 +9,8 @@ import pytest
 
 from lem_tools import increment_table
 from lem_tools.errors import ToolError
-from lem_tools.study_data import FORMAT, VERSION
+from lem_tools.results import STUDY_COLUMNS
+from lem_tools.study_data import CURVE_KEEP, FORMAT, VERSION
 
 SPEC = {"name": "inc", "ranks": 2, "sample": {"sample_particles": 64}, "phases": {},
         "fracture": {"fracture_stop_fraction": 0.3}}
@@ -28,10 +29,13 @@ def write_folder(path, increment, values, spec=SPEC, rho_m=0.13):
     for seed, sigma, broken_p in values:
         run = {"id": "p%d_rho_%.4f_spm_1.0000" % (seed, rho_m), "rho_m": rho_m,
                "sigma_pm_ratio": 1.0}
-        row = {"sigma_eff_over_sigma_unit": sigma, "strain_at_peak": 4e-3, "n_b": 0.1,
-               "broken_p": broken_p, "broken_m": 10, "broken_pp": 100, "broken_pm": None}
-        data = {"format": FORMAT, "version": VERSION, "study_hash": spec["hash"], "run": run,
-                "row": row, "sample": {"packing_seed": seed, "lattice_seed": 1}}
+        row = dict.fromkeys(STUDY_COLUMNS, None)
+        row.update(id=run["id"], sigma_eff_over_sigma_unit=sigma, strain_at_peak=4e-3, n_b=0.1,
+                   broken_p=broken_p, broken_m=10, broken_pp=100)
+        data = {"format": FORMAT, "version": VERSION, "study": spec["name"],
+                "study_hash": spec["hash"], "run": run, "row": row,
+                "sample": {"packing_seed": seed, "lattice_seed": 1},
+                "curve": {"columns": list(CURVE_KEEP), "rows": [[4e-3, 0.5, 0.5, 3, 0.1]]}}
         with open(os.path.join(path, "runs", run["id"] + ".json"), "w") as f:
             json.dump(data, f)
     return path

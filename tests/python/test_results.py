@@ -193,3 +193,14 @@ def test_a_file_changed_at_its_size_is_not_finished(fracture_dir):
     # A manifest written before checksums: the sizes alone are checked.
     write_manifest(fracture_dir, ("curve.csv", "broken.csv", "summary.json"), checksums=False)
     assert results.finished_problem(fracture_dir) is None
+
+
+def test_a_manifest_without_one_checksum_is_damaged(fracture_dir):
+    """A checksum line removed does not let a changed file pass as complete."""
+    manifest = os.path.join(fracture_dir, "manifest.txt")
+    with open(manifest) as f:
+        lines = f.read().splitlines(keepends=True)
+    with open(manifest, "w") as f:
+        f.writelines(line for line in lines if not line.startswith("checksum=curve.csv "))
+    with pytest.raises(ResultsError, match="manifest.txt is damaged: no checksum of curve.csv"):
+        results.require_finished(fracture_dir)

@@ -38,7 +38,15 @@ def test_valid_study_gets_the_defaults(tmp_path):
 @pytest.mark.parametrize("change, message", [
     (("ranks: 1", "ranks: true"), "ranks must be a positive integer, not True"),
     (("ranks: 1", "ranks: 1.5"), "ranks must be a positive integer, not 1.5"),
-    (("ranks: 1", "ranks: 0"), "ranks must be a positive integer"),
+    (("ranks: 1", "ranks: 0"), "ranks must be a positive integer, not 0$"),
+    (("ranks: 1", "ranks: -1"), "ranks must be a positive integer, not -1$"),
+    (("ranks: 1", "ranks: 1.0e+20"), r"ranks must be a positive integer, not 1e\+20$"),
+    (("ranks: 1", "ranks: 1e20"), "ranks must be a positive integer, not '1e20'$"),
+    # a count no machine has is a typo, not a run to plan
+    (("ranks: 1", "ranks: 100000000000000000000"),
+     "ranks must be a positive integer up to 1000000, not 100000000000000000000$"),
+    (("ranks: 1", "ranks: 1000001"),
+     "ranks must be a positive integer up to 1000000, not 1000001$"),
     (("[0.4, 1.2]", "[0.4, true]"), "sigma_pm_ratios value True is not a number"),
     (("[0.13, 0.24]", "[0.13, .nan]"), "matrix_fractions value nan is not a number"),
     (("[0.13, 0.24]", "[0.13, 0.9]"), r"matrix_fractions value 0.9 outside \(0, 0.5\]"),
@@ -101,6 +109,23 @@ def test_an_output_path_that_is_a_file_is_named(tmp_path):
     with pytest.raises(StudyError, match="output folder .*out is a file, not a folder"):
         Study(study_file(tmp_path), str(out))
     assert out.read_text() == "a file of the user's\n"
+
+
+def test_a_data_path_that_is_a_file_is_named_before_any_work(tmp_path, capsys):
+    data = tmp_path / "data"
+    data.write_text("a file of the user's\n")
+    out = tmp_path / "out"
+    assert study.main(["plan", study_file(tmp_path), str(out), "--data", str(data)]) == 1
+    assert capsys.readouterr().err.endswith(
+        ": error: the data folder (--data) %s is a file, not a folder: choose another path\n"
+        % data)
+    assert data.read_text() == "a file of the user's\n"
+    assert not out.exists()                         # no study.json left behind either
+
+
+def test_the_largest_rank_count_is_planned(tmp_path):
+    assert load_study(study_file(tmp_path, BASE.replace("ranks: 1", "ranks: 1000000")))[
+        "ranks"] == 1000000
 
 
 def test_hash_ignores_the_rank_count_only(tmp_path):

@@ -4,6 +4,7 @@ redrawn from the committed data folder of a real small study."""
 import json
 import os
 import re
+import shutil
 import subprocess
 import sys
 
@@ -227,7 +228,8 @@ def test_a_data_folder_keeps_one_study(tmp_path, programs, monkeypatch):
 KEPT = [("tiny-grid", True), ("paper-64", True), ("paper-64-packings", False),
         ("increment-64-x0.5", False), ("increment-64-x1", False), ("increment-64-x2", False),
         ("increment-64-x4", False), ("increment-516-x0.5", True), ("increment-516-x1", True),
-        ("increment-516-x2", True), ("increment-516-x4", True), ("paper-516-line", True)]
+        ("increment-516-x2", True), ("increment-516-x4", True), ("paper-516-line", True),
+        ("paper-516-grid", False)]
 
 
 def test_every_data_folder_is_listed():
@@ -272,6 +274,128 @@ def test_the_figure_command_redraws_every_figure_from_the_data(tmp_path):
     fit = json.load(open(os.path.join(out, "fit.json")))
     assert fit["runs"] == 18 and fit["points"] == 9
     assert fit["figures"]["runs_per_point"] == [2, 2]
+
+
+# --- a damaged or foreign row is named, nothing drawn ---------------------------------
+
+DRAWN_RUN = "p1_rho_0.0600_spm_0.8000"   # a run whose curve fig. 3 draws (sigma^pm near sigma^p)
+DELETE = object()
+
+
+@pytest.fixture
+def tiny_copy(tmp_path):
+    folder = str(tmp_path / "tiny-grid")
+    shutil.copytree(TINY, folder)
+    return folder
+
+
+def edit_row(folder, keys, value, run=DRAWN_RUN):
+    """runs/<run>.json of `folder` with the field at `keys` (a path of
+    mapping keys and list indices) set to `value`, or deleted (DELETE); its path."""
+    path = os.path.join(folder, "runs", run + ".json")
+    with open(path) as f:
+        data = json.load(f)
+    parent = data
+    for key in keys[:-1]:
+        parent = parent[key]
+    if value is DELETE:
+        del parent[keys[-1]]
+    else:
+        parent[keys[-1]] = value
+    with open(path, "w") as f:
+        json.dump(data, f)
+    return path
+
+
+def paper_figures_error(folder, out, capsys):
+    """(exit status, stderr) of paper_figures.py FOLDER --out OUT, run here."""
+    from lem_tools import paper_figures
+
+    status = paper_figures.main([folder, "--out", out])
+    return status, capsys.readouterr().err
+
+
+@pytest.mark.parametrize("keys, value, message", [
+    (("row", "sigma_eff_over_sigma_unit"), float("nan"),
+     r"row\.sigma_eff_over_sigma_unit is nan: a kept value must be a finite number or null"),
+    (("curve", "rows", 1, 0), float("inf"), r"curve\.rows\[1\]\[0\] is inf"),
+    (("stress_pdf", "beta"), float("-inf"), r"stress_pdf\.beta is -inf"),
+    (("sample", "bonds"), float("nan"), r"sample\.bonds is nan"),
+    (("row",), DELETE, "no row section"),
+    (("curve",), DELETE, "no curve section"),
+    (("run",), DELETE, "no run section"),
+    (("curve", "rows"), [], r"curve\.rows is empty: no step of the curve is kept"),
+    (("curve", "rows", 2), [1e-4, 0.1], r"curve\.rows\[2\] is not 5 numbers"),
+    (("curve", "columns"), ["strain", "stress_norm"], r"curve\.columns lacks stress_before_norm"),
+    (("row", "beta"), DELETE, "row has no beta"),
+    (("row", "n_b"), "many", r"row\.n_b is 'many', not a number or null"),
+    (("run", "rho_m"), DELETE, r"run\.rho_m is None, not a number"),
+    (("stress_pdf", "edges"), DELETE, "stress_pdf has no edges and inside"),
+])
+def test_a_damaged_row_is_named_and_nothing_drawn(tiny_copy, tmp_path, capsys, keys, value,
+                                                  message):
+    """A row with NaN or infinity in a value, a section missing or an empty
+    curve: one line naming the file and the field, exit 1, no figure."""
+    path = edit_row(tiny_copy, keys, value)
+    out = str(tmp_path / "figures")
+    status, err = paper_figures_error(tiny_copy, out, capsys)
+    assert status == 1
+    assert re.fullmatch(r"[^\n]*: error: %s: %s[^\n]*\n" % (re.escape(path), message), err), err
+    assert not os.path.exists(out)
+
+
+def test_a_row_of_another_study_is_refused(tiny_copy, tmp_path):
+    """A row of another study under the name of one of this study's runs:
+    refused naming the file and both studies (the command as run)."""
+    other = os.path.join(ROOT, "docs", "data", "paper-64")
+    row = sorted(os.listdir(os.path.join(other, "runs")))[0]
+    path = os.path.join(tiny_copy, "runs", DRAWN_RUN + ".json")
+    shutil.copy(os.path.join(other, "runs", row), path)
+    out = str(tmp_path / "figures")
+    done = subprocess.run([sys.executable, os.path.join(TOOLS, "paper_figures.py"), tiny_copy,
+                           "--out", out], capture_output=True, text=True, timeout=300)
+    theirs = json.load(open(os.path.join(other, "study.json")))["hash"]
+    ours = json.load(open(os.path.join(TINY, "study.json")))["hash"]
+    assert done.returncode == 1
+    assert done.stderr == ("paper_figures.py: error: %s is a row of study paper-64 (hash %s), "
+                           "not of tiny-grid (hash %s) whose data folder holds it: move it to "
+                           "its own study's data folder\n" % (path, theirs, ours))
+    assert not os.path.exists(out)
+
+
+def test_a_row_under_another_runs_name_is_refused(tiny_copy, tmp_path, capsys):
+    path = os.path.join(tiny_copy, "runs", DRAWN_RUN + ".json")
+    shutil.copy(os.path.join(tiny_copy, "runs", "p1_rho_0.0600_spm_0.2000.json"), path)
+    status, err = paper_figures_error(tiny_copy, str(tmp_path / "figures"), capsys)
+    assert status == 1
+    assert err.endswith(": error: %s: holds the run p1_rho_0.0600_spm_0.2000, not %s (its file "
+                        "name)\n" % (path, DRAWN_RUN)), err
+
+
+def test_an_output_path_that_is_a_file_is_named_not_errno(tmp_path):
+    out = tmp_path / "figures"
+    out.write_text("a file of the user's\n")
+    done = subprocess.run([sys.executable, os.path.join(TOOLS, "paper_figures.py"), TINY,
+                           "--out", str(out)], capture_output=True, text=True, timeout=300)
+    assert done.returncode == 1
+    assert done.stderr == ("paper_figures.py: error: the figures' folder (--out) %s is a file, "
+                           "not a folder: choose another path\n" % out)
+    assert out.read_text() == "a file of the user's\n"
+
+
+@pytest.mark.parametrize("value, shown", [(float("nan"), "nan"), (float("inf"), "inf"),
+                                          (0.0, "0.0"), (-0.02, "-0.02"), (True, "True"),
+                                          ("0.02", "'0.02'"), (None, "None")])
+def test_a_kept_calibration_must_be_positive_numbers(tmp_path, value, shown):
+    folder = study_data.DataFolder(str(tmp_path))
+    os.makedirs(str(tmp_path / "calibration"))
+    for key in ("sigma_hom", "E_hom"):
+        kept = dict(CALIBRATION, **{key: value})
+        with open(folder.calibration_path("p1"), "w") as f:
+            json.dump(kept, f)
+        with pytest.raises(study_data.DataError, match=r"^%s: %s must be a number > 0, not %s$"
+                           % (re.escape(folder.calibration_path("p1")), key, re.escape(shown))):
+            folder.calibration("p1")
 
 
 @pytest.fixture(scope="module")

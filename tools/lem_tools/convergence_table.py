@@ -111,9 +111,8 @@ def kept_sample(study, stem):
     for run in study.runs():
         if study.sample_stem(study.lattice_of(run), run["rho_m"]) != stem:
             continue
-        path = study.data.run_path(run["id"])
-        if os.path.exists(path):
-            return read_json(path).get("sample") or {}
+        if os.path.exists(study.data.run_path(run["id"])):
+            return study.data.row(run["id"])["sample"]
     return {}
 
 

@@ -1,9 +1,12 @@
 """The one way result files are written: into a temporary name beside the
 target, renamed over it only once complete, so that a reader (or a rerun
-that checks what exists) never sees half a file."""
+that checks what exists) never sees half a file; and the one check of a
+folder a command is told to write into."""
 import contextlib
 import json
 import os
+
+from .errors import ToolError
 
 
 @contextlib.contextmanager
@@ -33,3 +36,15 @@ def atomic_open(path, mode="w", **open_args):
 def write_json(path, data):
     with atomic_open(path) as f:
         json.dump(data, f, indent=2)
+
+
+def require_folder_path(path, what, error=ToolError):
+    """Raise `error` naming `what` (e.g. "the data folder (--data)") if
+    `path`, or the nearest of its parents that exists, is a file: before
+    any work, instead of os.makedirs' "[Errno 17] File exists"."""
+    wanted = existing = os.path.abspath(path)
+    while not os.path.exists(existing):
+        existing = os.path.dirname(existing)
+    if not os.path.isdir(existing):
+        named = path if existing == wanted else "%s: %s" % (path, existing)
+        raise error("%s %s is a file, not a folder: choose another path" % (what, named))

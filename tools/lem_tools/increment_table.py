@@ -25,7 +25,7 @@ import numpy as np
 
 from . import cli
 from .errors import ToolError
-from .files import write_json
+from .files import require_folder_path, write_json
 from .plotting import plt, save_figure
 from .study_combine import physics
 from .study_data import open_data_folder
@@ -70,8 +70,6 @@ def read_rows(folders):
             raise ToolError("%s and %s differ in more than fracture_increment" % (reference, folder))
         increment = increment_of(spec, folder)
         for d in data.rows():
-            if d.get("study_hash") != spec.get("hash"):
-                continue
             row = {"increment": increment, "rho_m": d["run"]["rho_m"],
                    "sigma_pm_ratio": d["run"]["sigma_pm_ratio"]}
             row.update({k: d["sample"].get(k) for k in SAMPLE_KEYS})
@@ -186,6 +184,7 @@ def figure(table, reference):
 
 
 def run(args):
+    require_folder_path(args.out, "the output folder (--out)")
     rows = read_rows(args.folders)
     table = compare(rows, args.reference)
     os.makedirs(args.out, exist_ok=True)

@@ -37,7 +37,7 @@ from . import cli
 from .analysis import (K_DAMAGE_LIMIT, K_WEAKEST_LINK, RHO_FILLED, fit_eq10, replicate_means,
                        sample_means)
 from .errors import ToolError
-from .files import write_json
+from .files import require_folder_path, write_json
 from .paper import paper_values
 from .plotting import paper_mark, plt, save_figure
 from .results import STUDY_COLUMNS
@@ -79,9 +79,9 @@ def read_folders(folders):
             if same_physics(spec)[part] != wanted:
                 raise ToolError("%s and %s differ in their %s: %s against %s"
                                 % (reference, folder, part, same_physics(spec)[part], wanted))
-        found = [d for d in data.rows() if d.get("study_hash") == spec.get("hash")]
+        found = data.rows()
         if not found:
-            print("paper_figures: %s keeps no row of its study" % folder)
+            print("paper_figures: %s keeps no row" % folder)
         for d in found:
             sample = d["sample"]
             key = (d["run"]["rho_m"], d["run"]["sigma_pm_ratio"], sample.get("packing_seed"),
@@ -367,6 +367,7 @@ def draw_folders(folders, out):
 def run(args):
     out = args.out or os.path.join(ROOT, "docs", "figures",
                                    DataFolder(args.folders[0]).spec().get("name", "study"))
+    require_folder_path(out, "the figures' folder (--out)")
     paths = draw_folders(args.folders, out)
     print("paper_figures: %d figures, results.csv and fit.json -> %s" % (len(paths), out))
 

@@ -193,6 +193,12 @@ def finished_problem(directory):
         return "%s holds no finished result (no %s: the run did not complete)" % (
             directory, MANIFEST)
     sums = read_manifest_checksums(directory)
+    # Checksums are written for every file or (before they existed) for none:
+    # one line missing would let a changed file pass.
+    unsummed = [name for name in files if name not in sums]
+    if sums and unsummed:
+        return "%s is damaged: no checksum of %s, though it has those of the other files" % (
+            os.path.join(directory, MANIFEST), unsummed[0])
     for name, size in files.items():
         path = os.path.join(directory, name)
         if not os.path.isfile(path):

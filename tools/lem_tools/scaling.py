@@ -36,7 +36,8 @@ import subprocess
 
 from . import cli
 from .errors import ToolError
-from .study import launcher
+from .files import require_folder_path
+from .study import check_ranks_option, launcher
 
 # Columns of the table: (name, header of the Markdown table, format).
 COLUMNS = (
@@ -66,10 +67,10 @@ def bench_program():
 
 
 def run(args):
-    if args.ranks < 1:
-        raise ToolError("--ranks %d: give a rank count of 1 or more" % args.ranks)
+    check_ranks_option(args.ranks)
     if not os.path.isfile(args.sample):
         raise ToolError("sample file %s does not exist" % args.sample)
+    require_folder_path(args.out_dir, "the output folder")
     os.makedirs(args.out_dir, exist_ok=True)
     log = os.path.join(args.out_dir, "np%d.log" % args.ranks)
     try:

@@ -18,7 +18,7 @@ Commands (each skips what is already complete, so any can be rerun):
 
 Study file keys (YAML; anything else is an error):
   name               label of the study
-  ranks              MPI ranks per run (default 2)
+  ranks              MPI ranks per run (default 2, at most 1000000)
   sample             lem_sample options shared by every sample, without the
                      dash (e.g. sample_particles: 64); -matrix_fraction is set
                      per sample
@@ -80,10 +80,11 @@ import yaml
 
 from . import cli
 from .errors import ToolError
-from .files import write_json
+from .files import require_folder_path, write_json
 from .results import SUMMARY, ResultsError, finished_problem, read_json
 from .study_data import DataFolder, sample_checksum
-from .study_axes import AXIS_KEYS, SUBSET_KEYS, has_axes, is_number, lattices, read_axes
+from .study_axes import (AXIS_KEYS, SUBSET_KEYS, has_axes, is_integer, is_number, lattices,
+                         read_axes)
 
 TOOLS = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 ROOT = os.path.dirname(TOOLS)
@@ -104,6 +105,7 @@ LOG_MARK = "--- study.py "  # starts every attempt in an appended log
 # srun's own lines about the exit of its tasks, which tail() leaves out
 SRUN_NOISE = re.compile(r"srun: (error: .*: (Exited with exit code|Killed)|Job step|forcing)")
 ELASTIC_CONTACTS = ("bare", "adhesive")
+MAX_RANKS = 1_000_000  # more than any machine these runs are made on: a larger count is a typo
 
 
 class StudyError(ToolError):
@@ -172,9 +174,9 @@ def load_study(path):
         raise bad("name must be a non-empty text, not %r", name)
     study = {"name": name, "ranks": s.get("ranks", 2), "sample": mapping("sample"),
              "fracture": mapping("fracture")}
-    ranks = study["ranks"]
-    if not isinstance(ranks, int) or isinstance(ranks, bool) or ranks < 1:
-        raise bad("ranks must be a positive integer, not %r", ranks)
+    wanted = rank_count_wanted(study["ranks"])
+    if wanted:
+        raise bad("ranks must be %s, not %r", wanted, study["ranks"])
     for key in ("sample", "fracture"):
         for option, value in study[key].items():
             # The name becomes "-name" on the command line.
@@ -231,6 +233,23 @@ def load_study(path):
     return study
 
 
+def rank_count_wanted(value):
+    """None if `value` is an MPI rank count (an integer, not true/false, in
+    [1, MAX_RANKS]), else what it must be, in words."""
+    if not is_integer(value) or value < 1:
+        return "a positive integer"
+    if value > MAX_RANKS:
+        return "a positive integer up to %d" % MAX_RANKS
+    return None
+
+
+def check_ranks_option(ranks):
+    """Raise StudyError unless the --ranks of a command is a rank count."""
+    wanted = rank_count_wanted(ranks)
+    if wanted:
+        raise StudyError("--ranks %d is not %s" % (ranks, wanted))
+
+
 def study_hash(study):
     """Identity of a study's results: everything but the rank count, which
     changes how runs are made, not what they give, and the keys that only
@@ -243,9 +262,9 @@ def study_hash(study):
 class Study:
     def __init__(self, path, out, bin_dir=None, data=None):
         self.spec = load_study(path)
-        if os.path.exists(out) and not os.path.isdir(out):
-            raise StudyError("the study's output folder %s is a file, not a folder: choose "
-                             "another path" % out)
+        require_folder_path(out, "the study's output folder", StudyError)
+        if data:
+            require_folder_path(data, "the data folder (--data)", StudyError)
         self.out = out
         self.bin = bin_dir or os.environ.get("LEM_BIN") or os.path.join(ROOT, "build")
         self.hash = study_hash(self.spec)
@@ -620,7 +639,7 @@ class Study:
             sample = self.sample_file(self.lattice_of(run), run["rho_m"])
             if not (self.data and self.data.has_row(run) and os.path.exists(sample)):
                 continue
-            kept = read_json(self.data.run_path(run["id"]))["sample"].get("checksum")
+            kept = self.data.row(run["id"])["sample"].get("checksum")
             here = sample_checksum(sample)
             if kept != here:
                 out.append("%-28s kept with sample %s, the sample here is %s"
@@ -732,8 +751,7 @@ def tail(path, lines=2):
 def do(args):
     study = Study(args.study_file, args.out, args.bin, args.data)
     if args.ranks is not None:
-        if args.ranks < 1:
-            raise StudyError("--ranks %d is not a positive integer" % args.ranks)
+        check_ranks_option(args.ranks)
         study.spec["ranks"] = args.ranks
     command, index = args.command, args.index
     if index is not None and command not in ("samples", "calibrate", "run", "all"):

@@ -22,7 +22,7 @@ from . import cli
 from .convergence_table import (RUN_AXIS_COLUMNS, SAMPLE_COLUMNS, optional_json,
                                 write_convergence)
 from .errors import ToolError
-from .files import write_json
+from .files import require_folder_path, write_json
 from .results import STUDY_COLUMNS, read_csv, read_json, scalar
 from .study_axes import BOND_AXES, bond_axis
 from .study_table import write_table
@@ -103,6 +103,7 @@ def combine(folders):
 
 
 def write(out, folders):
+    require_folder_path(out, "the output folder")
     if os.path.exists(os.path.join(out, "study.json")):
         # its results.csv and samples.csv would be replaced by the combined ones
         raise ToolError("%s is a study's folder: combine into a folder of its own" % out)

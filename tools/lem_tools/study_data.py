@@ -18,6 +18,7 @@ file: HDF5 keeps timestamps and lem_sample its timings in attributes), so
 the same options give the same checksum on any machine with the same build.
 """
 import json
+import math
 import os
 import socket
 import zlib
@@ -27,7 +28,9 @@ import numpy as np
 from .analysis import node_stress_statistics, stress_pdf
 from .errors import ToolError
 from .files import atomic_open, write_json
-from .results import (CURVE, ELASTIC, ResultsError, read_curve, read_elastic, read_json)
+from .results import (CURVE, ELASTIC, STUDY_COLUMNS, ResultsError, read_curve, read_elastic,
+                      read_json)
+from .study_axes import is_number
 
 FORMAT = "lem3d study data"
 VERSION = 1
@@ -41,6 +44,10 @@ THIN_VALUE = 100
 DIGITS = 6  # significant digits of the stored numbers
 # What the runs take from a lattice's calibration: the units of stress and modulus.
 CALIBRATION_KEEP = ("sigma_hom", "E_hom")
+# The sections of a row that the figures and tables read, and the columns
+# of its results.csv row that are texts (the others are numbers or null).
+ROW_SECTIONS = ("run", "row", "sample", "curve")
+TEXT_COLUMNS = ("id", "end_reason")
 # Sample summary keys kept with each row (fig. 11 and the figures' subtitle).
 SAMPLE_KEEP = ("sample_particles", "particles", "side", "nodes", "bonds", "rho_m", "rho_p",
                "rho_v", "interface_ratio_Spm_Sp", "bridges_per_particle", "packing_seed",
@@ -174,8 +181,9 @@ class DataFolder:
         if not os.path.exists(path):
             return None
         data = read_json(path)
-        if not all(isinstance(data.get(k), (int, float)) for k in ("sigma_hom", "E_hom")):
-            raise DataError("%s: sigma_hom and E_hom must be numbers" % path)
+        for key in CALIBRATION_KEEP:
+            if not (is_number(data.get(key)) and data[key] > 0):
+                raise DataError("%s: %s must be a number > 0, not %r" % (path, key, data.get(key)))
         return data
 
     def has_row(self, run):
@@ -223,22 +231,114 @@ class DataFolder:
     def spec(self):
         return read_json(os.path.join(self.path, "study.json"))
 
+    def owner(self):
+        """(name, hash) of the study whose rows this folder keeps."""
+        if self.study is not None:
+            return self.study.spec["name"], self.study.hash
+        spec = self.spec()
+        return spec.get("name"), spec.get("hash")
+
+    def row(self, run_id, owner=None):
+        """The data of runs/<run_id>.json, checked (check_row) against the
+        study `owner` (default: this folder's)."""
+        path = self.run_path(run_id)
+        data = read_json(path)
+        check_row(path, data, owner or self.owner())
+        return data
+
     def rows(self):
-        """Every kept run's data (runs/*.json as written), in name order."""
+        """Every kept run's data (runs/*.json as written, each checked), in
+        name order."""
         folder = os.path.join(self.path, "runs")
         if not os.path.isdir(folder):
             return []
-        out = []
-        for name in sorted(os.listdir(folder)):
-            if not name.endswith(".json"):
-                continue
-            path = os.path.join(folder, name)
-            data = read_json(path)
-            if data.get("format") != FORMAT or data.get("version") != VERSION:
-                raise DataError("%s is not a study row of version %d (format %r, version %r)"
-                                % (path, VERSION, data.get("format"), data.get("version")))
-            out.append(data)
-        return out
+        owner = self.owner()
+        return [self.row(os.path.splitext(name)[0], owner)
+                for name in sorted(os.listdir(folder)) if name.endswith(".json")]
+
+
+def check_row(path, data, owner):
+    """Raise DataError naming `path` unless `data` is a row of the study
+    `owner` ((name, hash)), of the run its file name says, with every
+    section the figures and tables read and no NaN or infinity in it."""
+    if data.get("format") != FORMAT or data.get("version") != VERSION:
+        raise DataError("%s is not a study row of version %d (format %r, version %r)"
+                        % (path, VERSION, data.get("format"), data.get("version")))
+    if (data.get("study"), data.get("study_hash")) != tuple(owner):
+        raise DataError("%s is a row of study %s (hash %s), not of %s (hash %s) whose data "
+                        "folder holds it: move it to its own study's data folder"
+                        % ((path, data.get("study"), data.get("study_hash")) + tuple(owner)))
+    problem = row_problem(data, os.path.splitext(os.path.basename(path))[0])
+    if problem:
+        raise DataError("%s: %s" % (path, problem))
+
+
+def row_problem(data, run_id):
+    """What is wrong with the sections of the data of the row of `run_id`, or None."""
+    missing = [s for s in ROW_SECTIONS if not isinstance(data.get(s), dict)]
+    if missing:
+        return "no %s section" % missing[0]
+    if data["run"].get("id") != run_id:
+        return "holds the run %s, not %s (its file name)" % (data["run"].get("id"), run_id)
+    found = non_finite(data)
+    if found:
+        return "%s is %r: a kept value must be a finite number or null" % found
+    for key in ("rho_m", "sigma_pm_ratio"):
+        if not is_number(data["run"].get(key)):
+            return "run.%s is %r, not a number" % (key, data["run"].get(key))
+    row = data["row"]
+    for column in STUDY_COLUMNS:
+        if column not in row:
+            return "row has no %s" % column
+        if column not in TEXT_COLUMNS and not (row[column] is None or is_number(row[column])):
+            return "row.%s is %r, not a number or null" % (column, row[column])
+    return curve_problem(data["curve"]) or pdf_problem(data.get("stress_pdf"))
+
+
+def non_finite(value, where=""):
+    """(field, value) of the first NaN or infinity in `value` (nested
+    mappings and lists), the field named as in `section.key[index]`."""
+    if isinstance(value, float) and not math.isfinite(value):
+        return where, value
+    if isinstance(value, dict):
+        items = (("%s.%s" % (where, k) if where else k, v) for k, v in value.items())
+    elif isinstance(value, list):
+        items = (("%s[%d]" % (where, i), v) for i, v in enumerate(value))
+    else:
+        return None
+    return next(filter(None, (non_finite(v, field) for field, v in items)), None)
+
+
+def numbers(value):
+    """A non-empty list of finite numbers."""
+    return isinstance(value, list) and bool(value) and all(map(is_number, value))
+
+
+def curve_problem(curve):
+    """What is wrong with a row's thinned curve, or None."""
+    columns, rows = curve.get("columns"), curve.get("rows")
+    lacking = [c for c in CURVE_KEEP if not isinstance(columns, list) or c not in columns]
+    if lacking:
+        return "curve.columns lacks %s" % lacking[0]
+    if not isinstance(rows, list) or not rows:
+        return "curve.rows is empty: no step of the curve is kept"
+    for i, step in enumerate(rows):
+        if not (numbers(step) and len(step) == len(columns)):
+            return "curve.rows[%d] is not %d numbers: %r" % (i, len(columns), step)
+    return None
+
+
+def pdf_problem(pdf):
+    """What is wrong with a row's node-stress pdf (null without elastic.h5), or None."""
+    if pdf is None:
+        return None
+    if not (isinstance(pdf, dict) and numbers(pdf.get("edges")) and numbers(pdf.get("inside"))
+            and len(pdf["edges"]) == len(pdf["inside"]) + 1):
+        return "stress_pdf has no edges and inside (n + 1 and n numbers)"
+    if pdf.get("beta") is not None and not all(
+            is_number(pdf.get(k)) for k in ("beta", "tail_start", "tail_share")):
+        return "stress_pdf has a beta without the numbers tail_start and tail_share"
+    return None
 
 
 def open_data_folder(folder):

@@ -13,8 +13,8 @@ from .analysis import (fit_eq10, k_c_r_eq14, replicate_means, sample_means,
 from .convergence_table import number, optional_json
 from .files import atomic_open, write_json
 from .phases import BREAKABLE, broken_column
-from .results import (CURVE, STRESS_FIT, STUDY_COLUMNS, SUMMARY, read_curve, read_json,
-                      read_stress_beta, read_summary)
+from .results import (CURVE, STRESS_FIT, STUDY_COLUMNS, SUMMARY, read_curve, read_stress_beta,
+                      read_summary)
 from .study_data import curve_of
 from .study_axes import DEFAULT_SAMPLE_PARTICLES, has_axes, is_number
 
@@ -48,7 +48,7 @@ def folder_row(study, run):
 def kept_row(study, run):
     """The row of `run` kept in the study's data folder, with the columns
     of STUDY_COLUMNS (None where the data has none)."""
-    row = read_json(study.data.run_path(run["id"]))["row"]
+    row = study.data.row(run["id"])["row"]
     return {c: float("nan") if row.get(c) is None else row[c] for c in STUDY_COLUMNS}
 
 
@@ -57,7 +57,7 @@ def run_curve(study, run):
     in the data folder."""
     if study.folder_complete(run):
         return read_curve(os.path.join(study.run_dir(run), CURVE))
-    return curve_of(read_json(study.data.run_path(run["id"])))
+    return curve_of(study.data.row(run["id"]))
 
 
 def collect(study, samples=None):
