@@ -357,8 +357,8 @@ SampleFile read_everything(const std::string& path) {
     s.lattice.bonds[k] = {static_cast<std::int32_t>(b.ends[k][0]),
                           static_cast<std::int32_t>(b.ends[k][1])};
   s.bond_phase = std::move(b.bond_phase);
-  std::int64_t m = s.stats.bonds;
-  s.lattice.stiffness = r.dataset<double>("/bonds/stiffness", m);
+  // read_bond_rows checked that every row holds the lattice's stiffness.
+  s.lattice.stiffness.assign(s.lattice.bonds.size(), f.spec.lattice.stiffness);
   const std::string problem = first_geometry_problem(s);
   if (!problem.empty()) r.corrupt(problem);
   return std::move(b.description);
