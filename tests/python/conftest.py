@@ -6,6 +6,9 @@ import zlib
 import numpy as np
 import pytest
 
+# Under CI=true a skip is a failure (ci_skips.py).
+pytest_plugins = ["ci_skips"]
+
 TOOLS = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", "..", "tools"))
 
 CURVE_HEADER = ("step,strain,displacement_over_a,stress_before_norm,stress_norm,stress,broken,"
@@ -95,3 +98,4 @@ def write_study_file(tmp_path, text, name):
 @pytest.fixture
 def fracture_dir(tmp_path):
     return write_fracture_results(str(tmp_path / "run"))
+
