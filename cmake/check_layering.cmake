@@ -1,7 +1,8 @@
-# Fails when a file includes a header of a module it may not use.
+# Fails when a file includes a header of a module it may not use, and when a
+# module declares a dependency that none of its files includes.
 #
 #   cmake -DSOURCE_DIR=<repo> -DLAYERS=<build>/layers.txt [-DEXTRA=<module>:<file>]
-#         -P check_layering.cmake
+#         [-DEXTRA_DEPENDS=<module>:<dependency>] -P check_layering.cmake
 #
 # LAYERS is written by lem_module() in the root CMakeLists.txt, one line per
 # module: name|dependency,...  A module may use its own headers and those of
@@ -10,6 +11,11 @@
 # include/lem must sit in a module's folder.
 # Drivers (drivers/*.cpp) may use every module.  EXTRA checks one more file
 # as if it were part of <module> (the test that the check catches a bad one).
+# The converse: each dependency a module declares must be named by an
+# include of at least one of the module's own files (sources and headers);
+# one reached only through another dependency is not needed in the list.
+# EXTRA_DEPENDS declares one more, lower module as a dependency of <module>
+# (the test that the check catches an unused one).
 
 cmake_minimum_required(VERSION 3.20)
 
@@ -26,7 +32,13 @@ foreach(line IN LISTS lines)
   endif()
   list(APPEND modules ${name})
   set(deps_${name} ${deps})
+  set(used_${name} "")
 endforeach()
+if(DEFINED EXTRA_DEPENDS)
+  string(REGEX REPLACE ":.*" "" extra_module "${EXTRA_DEPENDS}")
+  string(REGEX REPLACE "^[^:]*:" "" extra_dependency "${EXTRA_DEPENDS}")
+  list(APPEND deps_${extra_module} ${extra_dependency})
+endif()
 
 # Everything a module may use: itself and its dependencies' closures (the
 # modules are listed bottom up, so a dependency's closure is known).
@@ -59,9 +71,12 @@ function(check_file module path)
     elseif(NOT owner IN_LIST allowed_${module})
       list(APPEND problems "${shown} (module ${module}) includes lem/${header} \
 (module ${owner}), which ${module} may not use")
+    else()
+      list(APPEND used_${module} ${owner})
     endif()
   endforeach()
   set(problems "${problems}" PARENT_SCOPE)
+  set(used_${module} "${used_${module}}" PARENT_SCOPE)
 endfunction()
 
 # Headers: each one checked as part of its module; none left unowned.
@@ -97,10 +112,22 @@ if(DEFINED EXTRA)
   check_file(${extra_module} "${extra_file}")
 endif()
 
+# A declared dependency that no file of the module names is one the link
+# carries for nothing (or one that another dependency already brings).
+foreach(m IN LISTS modules)
+  foreach(d IN LISTS deps_${m})
+    if(NOT d IN_LIST used_${m})
+      list(APPEND problems "module ${m} declares the dependency ${d} in lem_module(), \
+but none of its files includes a lem/${d}/ header (remove it from the DEPENDS list)")
+    endif()
+  endforeach()
+endforeach()
+
 if(problems)
   list(LENGTH problems count)
   string(REPLACE ";" "\n  " text "${problems}")
-  message(FATAL_ERROR "layering: ${count} include(s) break the layering:\n  ${text}")
+  message(FATAL_ERROR "layering: ${count} problem(s) with the layering:\n  ${text}")
 endif()
 list(LENGTH modules count)
-message(STATUS "layering: ${count} modules, every include respects the layering")
+message(STATUS "layering: ${count} modules, every include respects the layering "
+               "and every declared dependency is included")

@@ -1,6 +1,8 @@
-"""Small result folders written the way lem's drivers write them."""
+"""Small result folders written the way lem's drivers write them, and the
+rows of a documentation table."""
 import json
 import os
+import re
 import zlib
 
 import numpy as np
@@ -86,6 +88,25 @@ def cube_lattice(n):
     axis = np.linspace(0.0, 1.0, n)
     coords = np.array(np.meshgrid(axis, axis, axis, indexing="ij")).reshape(3, -1).T
     return coords, np.full(len(coords), 1.0 / len(coords))
+
+
+def markdown_table(path, first_heading):
+    """The body rows of the Markdown table in `path` whose heading row starts
+    with the cell `first_heading`, each a list of its cells, stripped (a `\\|`
+    inside a cell stays part of it)."""
+    rows, inside = [], False
+    with open(path, encoding="utf-8") as f:
+        for line in f:
+            line = line.strip()
+            cells = [c.strip() for c in re.split(r"(?<!\\)\|", line.strip("|"))]
+            if not inside:
+                inside = line.startswith("|") and cells[0] == first_heading
+            elif not line.startswith("|"):
+                break
+            elif not set(line) <= set("|-: "):
+                rows.append(cells)
+    assert inside, "%s: no table headed %r" % (path, first_heading)
+    return rows
 
 
 def write_study_file(tmp_path, text, name):
