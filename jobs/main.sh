@@ -37,3 +37,4 @@ done
 source "$root/jobs/python.sh"
 "$LEM_PYTHON" "$root/tools/plot_fracture.py" "$dir"
 "$LEM_PYTHON" "$root/tools/plot_stress.py" "$dir"
+"$LEM_PYTHON" "$root/tools/plot_crack.py" "$dir"

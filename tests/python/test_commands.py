@@ -27,7 +27,8 @@ def test_the_scripts_are_there():
     assert [os.path.basename(s) for s in SCRIPTS] == [
         "combine_studies.py", "increment_table.py", "options_reference.py", "paper_figures.py",
         "plot_bridge_geometry.py",
-        "plot_convergence.py", "plot_fracture.py", "plot_stiffness.py", "plot_stress.py",
+        "plot_convergence.py", "plot_crack.py", "plot_fracture.py", "plot_stiffness.py",
+        "plot_stress.py",
         "plot_tension.py", "scaling.py", "study.py", "study_figures.py", "work_split.py"]
 
 
@@ -39,8 +40,8 @@ def test_help_exits_0(script):
     assert done.stderr == ""
 
 
-@pytest.mark.parametrize("script", ["plot_fracture.py", "plot_stress.py", "plot_tension.py",
-                                    "plot_stiffness.py", "plot_convergence.py", "work_split.py"])
+@pytest.mark.parametrize("script", ["plot_fracture.py", "plot_crack.py", "plot_stress.py",
+                                    "plot_tension.py", "plot_stiffness.py", "plot_convergence.py", "work_split.py"])
 def test_missing_results_give_one_error_line(script, tmp_path):
     done = run_script(script, str(tmp_path / "none"))
     assert done.returncode == 1
@@ -73,6 +74,37 @@ def test_plot_fracture_reports_a_broken_table(fracture_dir):
     assert done.returncode == 1
     assert "curve.csv: line 5 has 2 fields" in done.stderr
     assert not os.path.exists(os.path.join(fracture_dir, "fracture.png"))
+
+
+def test_plot_crack_draws_a_run_with_and_without_its_sample(fracture_dir):
+    """No sample file: the slice says so; a sample named with --sample: drawn
+    with its particles; a missing --sample: one error line, nothing drawn."""
+    done = run_script("plot_crack.py", fracture_dir)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.startswith("wrote %s/crack.png and crack.pdf (crack at z = " % fracture_dir)
+    with open(os.path.join(fracture_dir, "crack.png"), "rb") as f:
+        assert f.read(8) == b"\x89PNG\r\n\x1a\n"
+    os.remove(os.path.join(fracture_dir, "crack.png"))
+    done = run_script("plot_crack.py", fracture_dir, "--sample", os.path.join(ROOT, "meshes", "tiny.h5"))
+    assert done.returncode == 0, done.stderr
+    assert os.path.exists(os.path.join(fracture_dir, "crack.png"))
+    os.remove(os.path.join(fracture_dir, "crack.png"))
+    done = run_script("plot_crack.py", fracture_dir, "--sample", fracture_dir + "/none.h5")
+    assert done.returncode == 1 and "none.h5: no such sample file" in done.stderr
+    assert not os.path.exists(os.path.join(fracture_dir, "crack.png"))
+
+
+def test_crack_height_and_slice_geometry():
+    from lem_tools.plot_crack import crack_height, slice_discs
+
+    rng = np.random.default_rng(1)
+    z = np.concatenate([rng.uniform(0, 10, 200), rng.normal(6.3, 0.05, 300)])
+    edges, z_crack = crack_height(z, 0.0, 10.0, bins=40)
+    assert edges[0] == 0 and edges[-1] == 10 and abs(z_crack - 6.3) <= 0.125
+    # a sphere of radius 5 at y = 0 cut at y = 3: a circle of radius 4; one
+    # that the plane misses is not drawn
+    x, zc, r = slice_discs(np.array([[1.0, 0.0, 2.0], [0.0, 9.0, 0.0]]), np.array([5.0, 1.0]), 3.0)
+    assert list(x) == [1.0] and list(zc) == [2.0] and r[0] == pytest.approx(4.0)
 
 
 def test_plot_stress_fits_the_tail_and_writes_stress_json(tmp_path):

@@ -579,9 +579,10 @@ class Study:
             raise StudyError("sample %s missing: run the samples step first" % sample)
         status = self.launch(run, d, self.fracture_command(sample, d, self.run_options(run, cal)))
         if status == 0:
-            # its own process: a failed stress figure must not fail the run
-            subprocess.run([sys.executable, os.path.join(TOOLS, "plot_stress.py"), d],
-                           stdout=subprocess.DEVNULL, check=False)
+            # their own processes: a failed figure must not fail the run
+            for tool in ("plot_stress.py", "plot_crack.py"):
+                subprocess.run([sys.executable, os.path.join(TOOLS, tool), d],
+                               stdout=subprocess.DEVNULL, check=False)
             self.keep(run)
         return status
 
