@@ -129,6 +129,24 @@ def test_plot_stress_fits_the_tail_and_writes_stress_json(tmp_path):
     assert sorted(os.listdir(tmp_path)) == ["elastic.h5", "stress.json", "stress.pdf", "stress.png"]
 
 
+def test_plot_stress_maps_side_by_side(tmp_path):
+    """--maps: one figure of several runs' mid-plane maps and nothing else
+    written; several folders without --maps are a usage error."""
+    coords, volume = cube_lattice(12)
+    stress = np.zeros((len(coords), 6))
+    stress[:, 5] = 1e-3
+    for name in ("a", "b"):
+        os.makedirs(tmp_path / name)
+        write_elastic(str(tmp_path / name / "elastic.h5"), coords, stress, volume, 1e-3)
+    out = tmp_path / "maps.png"
+    done = run_script("plot_stress.py", "--maps", str(out), str(tmp_path / "a"), str(tmp_path / "b"))
+    assert done.returncode == 0, done.stderr
+    assert done.stdout == "wrote %s (2 maps)\n" % out
+    assert os.listdir(tmp_path / "a") == ["elastic.h5"]
+    done = run_script("plot_stress.py", str(tmp_path / "a"), str(tmp_path / "b"))
+    assert done.returncode == 2 and "one RESULTS_DIR, or several with --maps" in done.stderr
+
+
 def test_study_command_line(tmp_path):
     path = tmp_path / "s.yaml"
     path.write_text("name: t\nranks: 1\nmatrix_fractions: [0.13]\nsigma_pm_ratios: [0.6]\n")

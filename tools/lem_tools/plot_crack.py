@@ -21,30 +21,11 @@ from . import cli
 from .errors import ToolError
 from .phases import BREAKABLE, phase_name
 from .plotting import phase_color, plt, save_figure
-from .results import BROKEN, SUMMARY, read_broken, read_hdf5, read_summary, require_finished
+from .results import (BROKEN, SUMMARY, read_broken, read_hdf5, read_summary, require_finished,
+                      sample_path)
 
 CRACK_PLOT = "crack.png"
 PROFILE_BINS = 40  # height bins of panel (c)
-REPO = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
-
-
-def sample_path(summary, directory, given=None):
-    """The sample file of the run: `given`, else summary.json's sample_file as
-    written (absolute, or relative to where the run was started: this folder's
-    parent, the current folder or the repository); None when none exists."""
-    if given:
-        if not os.path.exists(given):
-            raise ToolError(f"{given}: no such sample file")
-        return given
-    name = summary.get("sample_file")
-    if not isinstance(name, str) or not name:
-        return None
-    if os.path.isabs(name):
-        return name if os.path.exists(name) else None
-    for base in (os.path.dirname(os.path.abspath(directory)), os.getcwd(), REPO):
-        if os.path.exists(os.path.join(base, name)):
-            return os.path.join(base, name)
-    return None
 
 
 def read_particles(path):

@@ -21,6 +21,10 @@ their Voronoi cells but the random lattice keeps the bonds in the faces
 whole, which inflates their stress (lem_tools.analysis.on_box_faces); their
 share falls as the sample grows, so with them beta would depend on the
 sample size.
+
+With --maps OUT.png RESULTS_DIR..., the maps (a) of several runs are drawn
+side by side on one colour scale instead (fig. 7 at several rho^m), each
+titled with its sample's rho^m; nothing else is written.
 """
 import os
 
@@ -31,30 +35,33 @@ from . import cli
 from .analysis import TAIL_START, ZZ, mid_plane_map, node_stress_statistics, stress_pdf
 from .files import write_json
 from .plotting import plt, save_figure
-from .results import ELASTIC, STRESS_FIT, STRESS_PLOT, read_elastic
+from .results import (ELASTIC, STRESS_FIT, STRESS_PLOT, SUMMARY, read_elastic, read_hdf5,
+                      read_summary, sample_path)
+
+
+def stress_map(ax, d, loaded, limit):
+    """The mid-plane map of sigma_zz^i / sigma_zz on `ax`, in [-limit, limit]."""
+    lo, hi = d["coords"].min(axis=0), d["coords"].max(axis=0)
+    values = np.where(loaded, d["stress"][:, ZZ] / d["applied"], np.nan)
+    image, extent = mid_plane_map(d["coords"], values, lo, hi)
+    cmap = matplotlib.colormaps["RdBu_r"].copy()
+    cmap.set_bad("0.55")  # void: grey, so that it is not read as zero stress (white)
+    ax.set_xlabel("x")
+    ax.set_ylabel("z")
+    return ax.imshow(image, origin="lower", extent=extent, cmap=cmap, vmin=-limit, vmax=limit,
+                     interpolation="nearest"), 0.5 * (lo[1] + hi[1])
 
 
 def draw(out):
     d = read_elastic(os.path.join(out, ELASTIC))
     result, s, loaded, on_face = node_stress_statistics(d)
-    zz = d["stress"][:, ZZ]
-    lo, hi = d["coords"].min(axis=0), d["coords"].max(axis=0)
     fit = result["tail"]
     relative_mean = result["volume_average_stress_zz"] / d["applied"]
 
     fig, (ax_map, ax_pdf) = plt.subplots(1, 2, figsize=(12, 5.2))
-    values = np.where(loaded, zz / d["applied"], np.nan)
-    image, extent = mid_plane_map(d["coords"], values, lo, hi)
-    limit = np.nanquantile(np.abs(s), 0.99)
-    cmap = matplotlib.colormaps["RdBu_r"].copy()
-    cmap.set_bad("0.55")  # void: grey, so that it is not read as zero stress (white)
-    shown = ax_map.imshow(image, origin="lower", extent=extent, cmap=cmap, vmin=-limit,
-                          vmax=limit, interpolation="nearest")
+    shown, y = stress_map(ax_map, d, loaded, np.nanquantile(np.abs(s), 0.99))
     fig.colorbar(shown, ax=ax_map, label=r"$\sigma_{zz}^i / \sigma_{zz}$ (tension > 0)")
-    ax_map.set_xlabel("x")
-    ax_map.set_ylabel("z")
-    ax_map.set_title("(a) node stresses on the mid-plane y = %.2f (void grey)"
-                     % (0.5 * (lo[1] + hi[1])))
+    ax_map.set_title("(a) node stresses on the mid-plane y = %.2f (void grey)" % y)
 
     # Both pdfs per loaded node, so that they add up to the pdf of all nodes.
     edges, inside, faces = stress_pdf(s, on_face)
@@ -98,8 +105,48 @@ def draw(out):
              result["face_nodes"], relative_mean, out))
 
 
+def matrix_fraction(directory):
+    """rho^m of the run's sample (its attribute rho_m), or None."""
+    summary = os.path.join(directory, SUMMARY)
+    path = sample_path(read_summary(summary), directory) if os.path.exists(summary) else None
+    return float(read_hdf5(path, (), ("rho_m",))["rho_m"]) if path else None
+
+
+def draw_maps(out, directories):
+    """The mid-plane maps of several runs side by side, one colour scale."""
+    runs = [read_elastic(os.path.join(d, ELASTIC)) for d in directories]
+    stats = [node_stress_statistics(d) for d in runs]
+    limit = max(np.nanquantile(np.abs(s), 0.99) for _, s, _, _ in stats)
+    fig, axes = plt.subplots(1, len(runs), figsize=(4.2 * len(runs) + 1.2, 4.6), squeeze=False)
+    for ax, d, (_, _, loaded, _), directory in zip(axes[0], runs, stats, directories):
+        shown, y = stress_map(ax, d, loaded, limit)
+        rho = matrix_fraction(directory)
+        ax.set_title((r"$\rho^m$ = %.3f" % rho) if rho is not None
+                     else os.path.basename(os.path.abspath(directory)), fontsize=10)
+    fig.colorbar(shown, ax=list(axes[0]), label=r"$\sigma_{zz}^i / \sigma_{zz}$ (tension > 0)",
+                 shrink=0.9)
+    fig.suptitle("node stresses on the mid-plane y = %.2f at the first equilibrium (void grey)"
+                 % y, fontsize=10)
+    save_figure(fig, out, dpi=110)
+    print("wrote %s (%d maps)" % (out, len(runs)))
+
+
 def main(argv=None):
-    return cli.run_on_folder(__doc__, "output folder of lem_fracture (-output_dir)", draw, argv)
+    arg_parser = cli.parser(__doc__)
+    arg_parser.add_argument("results_dirs", metavar="RESULTS_DIR", nargs="+",
+                            help="output folder of lem_fracture (-output_dir); several with "
+                                 "--maps")
+    arg_parser.add_argument("--maps", metavar="OUT.png",
+                            help="draw the maps of every RESULTS_DIR side by side into OUT.png")
+
+    def work(args):
+        if args.maps:
+            return draw_maps(args.maps, args.results_dirs)
+        if len(args.results_dirs) != 1:
+            arg_parser.error("one RESULTS_DIR, or several with --maps")
+        return draw(args.results_dirs[0])
+
+    return cli.run(arg_parser, work, argv)
 
 
 if __name__ == "__main__":

@@ -309,3 +309,25 @@ def read_elastic(path):
     if not elastic["applied"] > 0:
         raise ResultsError("%s: applied stress %g is not positive" % (path, elastic["applied"]))
     return elastic
+
+
+REPO_ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
+
+
+def sample_path(summary, directory, given=None):
+    """The sample file of the run: `given`, else summary.json's sample_file as
+    written (absolute, or relative to where the run was started: this folder's
+    parent, the current folder or the repository); None when none exists."""
+    if given:
+        if not os.path.exists(given):
+            raise ResultsError(f"{given}: no such sample file")
+        return given
+    name = summary.get("sample_file")
+    if not isinstance(name, str) or not name:
+        return None
+    if os.path.isabs(name):
+        return name if os.path.exists(name) else None
+    for base in (os.path.dirname(os.path.abspath(directory)), os.getcwd(), REPO_ROOT):
+        if os.path.exists(os.path.join(base, name)):
+            return os.path.join(base, name)
+    return None
