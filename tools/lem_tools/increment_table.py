@@ -1,6 +1,5 @@
 """How much the load increment matters: the rows of studies that differ only
-in -fracture_increment, side by side (docs/model/fracture.md, "The load
-increment").
+in -fracture_increment, side by side (docs/model/fracture-increment.md).
 
 Reads the data folders (docs/data/<study>/) of studies whose physics is the
 same but for `fracture.fracture_increment`, and compares every run with the

@@ -2,7 +2,7 @@
 // order, each with its unit and meaning (those of the break rules and
 // relaxation schemes from their registry entries): the summary is written from this
 // table (an entry out of order is a bug caught by every run) and
-// docs/reference/outputs.md lists it (test_fracture_summary checks both
+// docs/reference/fracture-outputs.md lists it (test_fracture_summary checks both
 // agree).  The provenance entries that follow are common to every program.
 #pragma once
 

@@ -7,8 +7,8 @@
 //
 // A program's summary.json/.csv is written from a described table of
 // fields (name, unit, meaning); program_summaries() lists them all, and
-// docs/reference/outputs.md shows each (test_fracture_summary keeps them
-// equal).
+// docs/reference/outputs.md shows each, lem_fracture's on
+// docs/reference/fracture-outputs.md (test_fracture_summary keeps them equal).
 #pragma once
 
 #include "lem/base/summary.hpp"
