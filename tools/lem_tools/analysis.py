@@ -40,7 +40,7 @@ def on_box_faces(coords, lo, hi):
     cells, while the random lattice keeps the bonds in the faces whole (the
     FCC block halves them), so the faces are a stiffer skin whose nodes read
     about 2.3 times the applied sigma_zz on the lateral faces of a cemented
-    sample (docs/paper.md; tests/system/test_elastic.cpp shows
+    sample (docs/paper-node-stresses.md; tests/system/test_elastic.cpp shows
     both cases on an FCC block)."""
     tolerance = FACE_TOLERANCE * float(np.max(hi - lo))
     return np.any((coords - lo < tolerance) | (hi - coords < tolerance), axis=1)
