@@ -5,7 +5,6 @@
 #include "damage_aggregation.hpp"
 #include "particle_deflation.hpp"
 #include "ritz_deflation.hpp"
-#include "soft_node_deflation.hpp"
 #include "solver_defaults.hpp"
 #include "spectrum_probe.hpp"
 
@@ -125,10 +124,6 @@ ElasticSystem::ElasticSystem(DistributedLattice& lattice, const SolverOptions& o
   if (options.particle_deflation && options.ritz_deflation > 0)
     throw InputError("options -solver_particle_deflation and -solver_ritz_deflation cannot be "
                      "used together: choose one deflation space");
-  // Soft nodes first: another deflation wraps the preconditioner they deflate.
-  if (options.soft_node_deflation > 0)
-    soft_nodes_ = std::make_unique<SoftNodeDeflation>(lattice_, ground_, K_, ksp_,
-                                                      options.soft_node_deflation);
   if (options.particle_deflation)
     deflation_ = std::make_unique<ParticleDeflation>(lattice_, K_, ksp_);
   if (options.ritz_deflation > 0)
@@ -201,7 +196,6 @@ void ElasticSystem::assemble() {
   operator_changed_ = true;
   if (deflation_) deflation_->operator_changed();
   if (ritz_) ritz_->operator_changed();
-  if (soft_nodes_) soft_nodes_->operator_changed();
   stage.pop();
 }
 
@@ -218,7 +212,6 @@ void ElasticSystem::finish_updates() {
   operator_changed_ = true;
   if (deflation_) deflation_->operator_changed();
   if (ritz_) ritz_->operator_changed();
-  if (soft_nodes_) soft_nodes_->operator_changed();
 }
 
 void ElasticSystem::assemble_rhs(double top_displacement) {
@@ -394,7 +387,6 @@ SolveReport ElasticSystem::attempt_solve(const EarlyStop* early) {
   }
   pc_ready_ = true;
   pc_stage.pop();
-  if (soft_nodes_) soft_nodes_->prepare(b_, u_);
   if (deflation_) deflation_->prepare(b_, u_);
   if (ritz_) ritz_->prepare(b_, u_);
   report.setup_seconds = MPI_Wtime() - t0;
@@ -512,7 +504,6 @@ void ElasticSystem::pin_nodes(const std::vector<int>& local_nodes) {
   if (bonds_) bonds_->constraints_changed();
   if (deflation_) deflation_->constraints_changed();
   if (ritz_) ritz_->operator_changed();
-  if (soft_nodes_) soft_nodes_->operator_changed();
 }
 
 }  // namespace lem

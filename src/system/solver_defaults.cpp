@@ -179,15 +179,6 @@ SolverOptions read_elastic_system_options(MPI_Comm comm) {
                   "multigrid-preconditioned K around the preconditioner (A-DEF2), learnt from the "
                   "Lanczos vectors of the solves themselves (docs/model/fracture.md); 0: none",
                   o.ritz_deflation, 0, kMostRitzColumns));
-    o.soft_node_deflation =
-        g.real("-solver_soft_node_deflation",
-               "Deflate around the preconditioner every soft direction of a single node: "
-               "an eigenvector of the node's 3x3 stiffness block, scaled by its diagonal, "
-               "whose eigenvalue is below this value (a node held by a few nearly coplanar "
-               "bonds moves along it at almost no cost, unseen by the Jacobi smoother); "
-               "one coarse unknown per direction, solved exactly (docs/model/fracture.md); "
-               "0: none",
-               o.soft_node_deflation, 0.0, 0.5);
     o.damage_aggregates = static_cast<int>(
         g.integer("-solver_damage_aggregates",
                   "Split GAMG's aggregates of the finest level near broken bonds into pieces one "

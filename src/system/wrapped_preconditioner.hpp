@@ -1,7 +1,6 @@
 // A preconditioner put around the KSP's own: the deflations
-// (-solver_particle_deflation, -solver_ritz_deflation,
-// -solver_soft_node_deflation) take the multigrid as their inner M and add a
-// coarse correction in a PETSc shell.
+// (-solver_particle_deflation, -solver_ritz_deflation) take the multigrid as
+// their inner M and add a coarse correction in a PETSc shell.
 #pragma once
 
 #include "lem/base/petsc_handle.hpp"

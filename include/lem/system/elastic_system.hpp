@@ -28,7 +28,6 @@ class ParticleDeflation;
 class BondOperator;
 class SingleCycle;
 class RitzDeflation;
-class SoftNodeDeflation;
 
 /// The most columns -solver_ritz_deflation keeps (and a checkpoint holds).
 constexpr int kMostRitzColumns = 64;
@@ -112,9 +111,6 @@ struct SolverOptions {
   /// -solver_ritz_deflation: most columns of the Ritz-vector deflation
   /// space (0: none).
   int ritz_deflation = 0;
-  /// -solver_soft_node_deflation: deflate a node's direction whose
-  /// diagonal-scaled block eigenvalue is below this (0: none).
-  double soft_node_deflation = 0;
   /// -solver_damage_aggregates: layers of nodes around broken bonds whose
   /// GAMG aggregates are split (src/system/damage_aggregation.hpp; 0: none).
   int damage_aggregates = 0;
@@ -273,13 +269,12 @@ class ElasticSystem {
   VecHandle u_start_;  // initial guess kept for a retry
   VecHandle u_check_;  // ghosted: the check field of a decided solve (mark_check)
   KspHandle ksp_;
-  ConvergenceTest* convergence_ = nullptr;         // owned by ksp_ (destroyed with it)
-  KspHandle fallback_ksp_;                         // CG + Jacobi, for solves the multigrid fails
-  std::unique_ptr<ParticleDeflation> deflation_;   // -solver_particle_deflation
-  std::unique_ptr<RitzDeflation> ritz_;            // -solver_ritz_deflation
-  std::unique_ptr<SoftNodeDeflation> soft_nodes_;  // -solver_soft_node_deflation
-  std::unique_ptr<BondOperator> bonds_;            // -solver_operator bonds
-  std::unique_ptr<SingleCycle> single_cycle_;      // -solver_cycle_precision single
+  ConvergenceTest* convergence_ = nullptr;        // owned by ksp_ (destroyed with it)
+  KspHandle fallback_ksp_;                        // CG + Jacobi, for solves the multigrid fails
+  std::unique_ptr<ParticleDeflation> deflation_;  // -solver_particle_deflation
+  std::unique_ptr<RitzDeflation> ritz_;           // -solver_ritz_deflation
+  std::unique_ptr<BondOperator> bonds_;           // -solver_operator bonds
+  std::unique_ptr<SingleCycle> single_cycle_;     // -solver_cycle_precision single
   double diagonal_scale_ = 1.0;
   double ground_ = 0.0;  // diagonal added on free dofs (-lattice_ground_stiffness)
   double current_displacement_ = 0.0;
