@@ -31,7 +31,6 @@ set(LEM_LONG_TESTS
   fracture_ranks_mini_reference   # fracture_ranks_reference
   fracture_ranks_sample_tiny      # fracture_certificate
   fracture_ranks_sample_mini      # fracture_certificate, fracture_ranks_mini
-  fracture_ranks_sample_tiny_soft_nodes # test_soft_node_deflation_np2, fracture_ranks_sample_tiny
   fracture_damage_aggregates      # bad_input_damage_aggregates_wrapped (the option reaches GAMG; the split shows only after damage, 3 runs of the mini sample)
   fracture_no_whole_gathers       # test_checkpoint_file_np2, fracture_restart_ranks
   fracture_parallel_setup         # test_parallel_setup_np2, _np3

@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <map>
+#include <utility>
 #include <sstream>
 #include <vector>
 
@@ -129,6 +130,20 @@ bool tolerant(const std::string& key) {
   return key == "bond_length_mean" || key == "stiffness_total" || key == "strength_total";
 }
 
+// Options removed from the code, with the value they had when unused: a
+// result, calibration or checkpoint written before the removal carries
+// this line, and is still the same run; one written with another value is
+// not.  (-solver_soft_node_deflation: removed, measured and lost;
+// docs/notes/slow-modes.md.)
+const std::pair<const char*, const char*> kRetiredDefaults[] = {
+    {"-solver_soft_node_deflation", "0"}};
+
+bool retired_default(const std::string& key, const std::string& value) {
+  for (const auto& [name, unused] : kRetiredDefaults)
+    if (key == name && value == unused) return true;
+  return false;
+}
+
 bool close_enough(const std::string& a, const std::string& b) {
   char* ea = nullptr;
   char* eb = nullptr;
@@ -195,6 +210,7 @@ FingerprintDifference compare_fingerprints(const std::string& theirs, const std:
     if (x != a.end() && y != b.end() &&
         (x->second == y->second || (tolerant(key) && close_enough(x->second, y->second))))
       continue;
+    if (x != a.end() && y == b.end() && retired_default(key, x->second)) continue;
     if (key == "ranks" && x != a.end() && y != b.end()) {
       d.other_ranks = std::atoi(x->second.c_str());
       continue;

@@ -1,5 +1,6 @@
 // lem_bench: the benchmark of the tension pipeline at one size and rank
 // count (lem/bench/benchmark.hpp), or of voronoi_volumes() alone.
+#include "lem/solver/levers.hpp"
 #include "lem/base/driver.hpp"
 #include "lem/base/error.hpp"
 #include "lem/base/options.hpp"
@@ -52,6 +53,7 @@ int bench_program(int argc, char** argv, const char* help) {
   return run_driver(argc, argv, help, [](MPI_Comm comm) {
     const SampleOptions sample = read_sample_options(comm);
     const BenchOptions bench = read_bench_options(comm, sample);
+    register_solver_levers();
     const SolverOptions solver = read_solver_options(comm);
     check_option_names(comm);
     if (bench.voronoi_nodes > 0) {

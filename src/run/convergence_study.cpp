@@ -1,4 +1,5 @@
 // lem_convergence (convergence_study.hpp).
+#include "lem/solver/levers.hpp"
 #include "lem/run/convergence_study.hpp"
 
 #include "lem/base/driver.hpp"
@@ -40,6 +41,7 @@ ConvergenceOptions read_convergence_options(MPI_Comm comm) {
     if (ln > 0.2)
       throw InputError("option -convergence_Ln: L_n = " + std::to_string(ln) +
                        " is too coarse (allowed: <= 0.2)");
+  register_solver_levers();
   o.solver = read_solver_options(comm);
   check_option_names(comm);
   if (o.sample.lattice_type != LatticeType::random)

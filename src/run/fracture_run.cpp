@@ -1,3 +1,4 @@
+#include "lem/solver/levers.hpp"
 #include "lem/run/fracture_run.hpp"
 
 #include "lem/report/calibration.hpp"
@@ -468,6 +469,7 @@ int fracture_program(int argc, char** argv, const char* help) {
         const SampleOptions sample = read_sample_options(comm);
         const FractureOptions protocol = read_fracture_options(comm);
         const FractureRunOptions run = read_fracture_run_options(comm);
+        register_solver_levers();
         const SolverOptions solver = read_solver_options(comm);
         check_option_names(comm);
         const auto provenance = collect_provenance(comm, "lem_fracture");

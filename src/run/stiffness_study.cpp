@@ -1,3 +1,4 @@
+#include "lem/solver/levers.hpp"
 #include "lem/run/stiffness_study.hpp"
 
 #include <functional>
@@ -264,6 +265,7 @@ Summary stiffness_summary(const StiffnessFindings& f) {
 int stiffness_program(int argc, char** argv, const char* help) {
   return run_driver(argc, argv, help, [](MPI_Comm comm) {
     const StiffnessStudy study = read_stiffness_study(comm);
+    register_solver_levers();
     const SolverOptions solver = read_solver_options(comm);
     check_option_names(comm);
     const auto provenance = collect_provenance(comm, "lem_stiffness");

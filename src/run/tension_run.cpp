@@ -1,4 +1,5 @@
 // lem_tension: elastic uniaxial tension of a lattice sample.
+#include "lem/solver/levers.hpp"
 #include "lem/base/driver.hpp"
 #include "lem/base/log.hpp"
 #include "lem/base/options.hpp"
@@ -35,6 +36,7 @@ TensionOptions read_tension_options(MPI_Comm comm) {
     o.request = ResultFolder::read_request(g, "results/tension");
     o.fields = g.flag("-output_fields", "Write nodes and bonds to HDF5/XDMF", true);
   }
+  register_solver_levers();
   o.solver = read_solver_options(comm);
   check_option_names(comm);
   return o;

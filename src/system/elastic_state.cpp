@@ -4,7 +4,6 @@
 #include "lem/system/elastic_system.hpp"
 
 #include "bond_operator.hpp"
-#include "ritz_deflation.hpp"
 
 #include "lem/base/error.hpp"
 #include "lem/system/lateral_strain.hpp"
@@ -234,12 +233,25 @@ void ElasticSystem::set_state(const std::vector<double>& owned, double top_displ
   ties_settled_ = false;
 }
 
+namespace {
+
+// The space of the first lever that learns (choices exclude a second).
+SolverLever* learner(const std::vector<SolverLever*>& levers) {
+  for (SolverLever* lever : levers)
+    if (!lever->learning_option().empty()) return lever;
+  return nullptr;
+}
+
+}  // namespace
+
 std::vector<VecHandle> ElasticSystem::learnt_space() const {
-  return ritz_ ? ritz_->columns() : std::vector<VecHandle>{};
+  const SolverLever* lever = learner(levers_);
+  return lever ? lever->learnt_space() : std::vector<VecHandle>{};
 }
 
 void ElasticSystem::restore_learnt_space(const std::vector<std::vector<double>>& columns) {
-  if (!ritz_) return;
+  SolverLever* lever = learner(levers_);
+  if (!lever) return;
   std::vector<VecHandle> space;
   for (const std::vector<double>& owned : columns) {
     if (owned.size() != 3 * static_cast<std::size_t>(lattice_.owned))
@@ -251,9 +263,12 @@ void ElasticSystem::restore_learnt_space(const std::vector<std::vector<double>>&
     std::copy(owned.begin(), owned.end(), w);
     LEM_PETSC(VecRestoreArray(space.back(), &w));
   }
-  ritz_->restore(std::move(space));
+  lever->restore_learnt_space(std::move(space));
 }
 
-std::string ElasticSystem::learning_option() const { return ritz_ ? "-solver_ritz_deflation" : ""; }
+std::string ElasticSystem::learning_option() const {
+  const SolverLever* lever = learner(levers_);
+  return lever ? lever->learning_option() : "";
+}
 
 }  // namespace lem

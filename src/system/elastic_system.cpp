@@ -2,10 +2,6 @@
 
 #include "bond_operator.hpp"
 #include "convergence_test.hpp"
-#include "damage_aggregation.hpp"
-#include "particle_deflation.hpp"
-#include "ritz_deflation.hpp"
-#include "soft_node_deflation.hpp"
 #include "solver_defaults.hpp"
 #include "spectrum_probe.hpp"
 
@@ -122,19 +118,8 @@ ElasticSystem::ElasticSystem(DistributedLattice& lattice, const SolverOptions& o
   set_from_options(ksp_);
   if (options.single_cycle)
     single_cycle_ = std::make_unique<SingleCycle>(lattice_, ground_, diagonal_scale_, ksp_);
-  if (options.particle_deflation && options.ritz_deflation > 0)
-    throw InputError("options -solver_particle_deflation and -solver_ritz_deflation cannot be "
-                     "used together: choose one deflation space");
-  // Soft nodes first: another deflation wraps the preconditioner they deflate.
-  if (options.soft_node_deflation > 0)
-    soft_nodes_ = std::make_unique<SoftNodeDeflation>(lattice_, ground_, K_, ksp_,
-                                                      options.soft_node_deflation);
-  if (options.particle_deflation)
-    deflation_ = std::make_unique<ParticleDeflation>(lattice_, K_, ksp_);
-  if (options.ritz_deflation > 0)
-    ritz_ = std::make_unique<RitzDeflation>(K_, ksp_, options.ritz_deflation);
-  damage_aggregates_ = options.damage_aggregates;
-  mark_damage();  // refuses now a preconditioner it cannot reach
+  // The levers, in one place: each a PC type put around the one before.
+  levers_ = compose_levers(ksp_, options.levers, LeverSite{lattice_, K_, ground_, 0});
   spectrum_solves_ = options.spectrum_solves;
   spectrum_prefix_ = options.spectrum_prefix;
   install_convergence_test();
@@ -199,9 +184,7 @@ void ElasticSystem::assemble() {
   LEM_PETSC(MatAssemblyEnd(K_, MAT_FINAL_ASSEMBLY));
   if (bonds_) bonds_->read_stiffness();
   operator_changed_ = true;
-  if (deflation_) deflation_->operator_changed();
-  if (ritz_) ritz_->operator_changed();
-  if (soft_nodes_) soft_nodes_->operator_changed();
+  for (SolverLever* lever : levers_) lever->operator_changed();
   stage.pop();
 }
 
@@ -216,9 +199,7 @@ void ElasticSystem::finish_updates() {
   LEM_PETSC(MatAssemblyBegin(K_, MAT_FINAL_ASSEMBLY));
   LEM_PETSC(MatAssemblyEnd(K_, MAT_FINAL_ASSEMBLY));
   operator_changed_ = true;
-  if (deflation_) deflation_->operator_changed();
-  if (ritz_) ritz_->operator_changed();
-  if (soft_nodes_) soft_nodes_->operator_changed();
+  for (SolverLever* lever : levers_) lever->operator_changed();
 }
 
 void ElasticSystem::assemble_rhs(double top_displacement) {
@@ -384,7 +365,7 @@ SolveReport ElasticSystem::attempt_solve(const EarlyStop* early) {
   double t0 = MPI_Wtime();
   const bool fresh = pc_stale_ || (operator_changed_ && !reuse_pc_);
   report.preconditioner_built = !pc_ready_ || fresh;
-  if (report.preconditioner_built) mark_damage();
+  if (report.preconditioner_built) before_build();
   LogStageScope pc_stage(stages.pc_setup);
   if (pc_ready_ && fresh) {
     set_up_preconditioner();
@@ -394,9 +375,7 @@ SolveReport ElasticSystem::attempt_solve(const EarlyStop* early) {
   }
   pc_ready_ = true;
   pc_stage.pop();
-  if (soft_nodes_) soft_nodes_->prepare(b_, u_);
-  if (deflation_) deflation_->prepare(b_, u_);
-  if (ritz_) ritz_->prepare(b_, u_);
+  for (SolverLever* lever : levers_) lever->prepare(b_, u_);
   report.setup_seconds = MPI_Wtime() - t0;
   t0 = MPI_Wtime();
   LogStageScope solve_stage(tighter_solve_ ? stages.solve_tighter : stages.solve);
@@ -412,7 +391,8 @@ SolveReport ElasticSystem::attempt_solve(const EarlyStop* early) {
   const PetscErrorCode solved = KSPSolve(ksp_, b_, u_);
   convergence_->early = nullptr;
   convergence_->tightening = nullptr;
-  if (ritz_ && !solved) ritz_->learn();
+  if (!solved)
+    for (SolverLever* lever : levers_) lever->after_solve();
   if (convergence_->error) std::rethrow_exception(convergence_->error);
   if (solved) {
     // A PETSc error inside KSPSolve leaves the solver mid-cycle: destroying
@@ -474,12 +454,12 @@ void ElasticSystem::set_reuse_preconditioner(bool reuse) {
 
 void ElasticSystem::rebuild_preconditioner() { pc_stale_ = true; }
 
-void ElasticSystem::mark_damage() {
-  if (damage_aggregates_ > 0) prepare_damage_aggregation(ksp_, lattice_, damage_aggregates_);
+void ElasticSystem::before_build() {
+  for (SolverLever* lever : levers_) lever->before_build();
 }
 
 void ElasticSystem::build_preconditioner() {
-  mark_damage();
+  before_build();
   LogStageScope stage(log_stages().pc_setup);
   set_up_preconditioner();
   stage.pop();
@@ -510,9 +490,7 @@ void ElasticSystem::pin_nodes(const std::vector<int>& local_nodes) {
     LEM_PETSC(MatSetValuesBlocked(K_, 1, &row, 1, &row, block, ADD_VALUES));
   }
   if (bonds_) bonds_->constraints_changed();
-  if (deflation_) deflation_->constraints_changed();
-  if (ritz_) ritz_->operator_changed();
-  if (soft_nodes_) soft_nodes_->operator_changed();
+  for (SolverLever* lever : levers_) lever->constraints_changed();
 }
 
 }  // namespace lem

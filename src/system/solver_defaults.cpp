@@ -3,6 +3,7 @@
 #include "solver_defaults.hpp"
 
 #include "lem/system/elastic_system.hpp"
+#include "lem/system/solver_lever.hpp"
 #include "lem/base/error.hpp"
 #include "lem/base/files.hpp"
 #include "lem/base/options.hpp"
@@ -151,14 +152,6 @@ SolverOptions read_elastic_system_options(MPI_Comm comm) {
                "and changes E_eff by < 1e-6 relative (docs/model/cemented-samples.md); 0 "
                "disables",
                o.ground_stiffness, 0.0, 1e-3);
-    o.particle_deflation =
-        g.flag("-solver_particle_deflation",
-               "Deflate the six rigid-body modes of every "
-               "particle around the preconditioner (a coarse space of 6 unknowns per "
-               "particle, solved exactly).  For porous cemented samples, where stiff "
-               "particles joined by a few soft bridges make CG slow "
-               "(docs/benchmarks.md); needs a cemented sample",
-               o.particle_deflation);
     o.solver_operator = g.choice<SolverOperator>(
         "-solver_operator",
         "What CG multiplies by: the assembled matrix K, or K applied "
@@ -173,29 +166,6 @@ SolverOptions read_elastic_system_options(MPI_Comm comm) {
         "copied to float at every preconditioner build and applied by our own code: about "
         "half the bytes per cycle; CG, its operator and its residual stay in double)",
         {{"double", false}, {"single", true}}, o.single_cycle);
-    o.ritz_deflation = static_cast<int>(
-        g.integer("-solver_ritz_deflation",
-                  "Deflate up to this many slow Ritz vectors of the "
-                  "multigrid-preconditioned K around the preconditioner (A-DEF2), learnt from the "
-                  "Lanczos vectors of the solves themselves (docs/model/fracture.md); 0: none",
-                  o.ritz_deflation, 0, kMostRitzColumns));
-    o.soft_node_deflation =
-        g.real("-solver_soft_node_deflation",
-               "Deflate around the preconditioner every soft direction of a single node: "
-               "an eigenvector of the node's 3x3 stiffness block, scaled by its diagonal, "
-               "whose eigenvalue is below this value (a node held by a few nearly coplanar "
-               "bonds moves along it at almost no cost, unseen by the Jacobi smoother); "
-               "one coarse unknown per direction, solved exactly (docs/model/fracture.md); "
-               "0: none",
-               o.soft_node_deflation, 0.0, 0.5);
-    o.damage_aggregates = static_cast<int>(
-        g.integer("-solver_damage_aggregates",
-                  "Split GAMG's aggregates of the finest level near broken bonds into pieces one "
-                  "bond across, at every preconditioner build: 1 splits those holding a node of a "
-                  "broken bond (bare contacts, which have no strength, not counted), 2 also those "
-                  "one intact bond away, ...; the coarse level grows only near the cracks "
-                  "(docs/model/fracture.md); 0: GAMG's aggregates as they are",
-                  o.damage_aggregates, 0, 4));
     for (const double s : g.positive_reals(
              "-solver_spectrum_solves",
              "Diagnostic: at these "
@@ -232,6 +202,7 @@ SolverOptions read_elastic_system_options(MPI_Comm comm) {
 
 SolverOptions read_solver_options(MPI_Comm comm) {
   SolverOptions o = read_elastic_system_options(comm);
+  o.levers = read_lever_options(comm);
   OptionGroup g(comm, "Linear solver (defaults set on PETSc's objects; any -ksp_*, -pc_*, "
                       "-mg_* or -mat_* option overrides them)");
   for (const SolverDefault& d : kSolverDefaults) g.petsc_default(d.name, d.help, d.value);

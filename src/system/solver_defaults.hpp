@@ -2,6 +2,8 @@
 // (elastic_system.cpp, solver_defaults.cpp); not part of the public API.
 #pragma once
 
+#include "lem/system/solver_lever.hpp"
+
 #include <petscksp.h>
 
 namespace lem {
@@ -17,9 +19,6 @@ void apply_fallback_defaults(KSP ksp);
 /// InputError naming the option, and so is a Krylov method that cannot
 /// start from the previous solution (every solve here does).
 void set_from_options(KSP ksp);
-/// The W cycle and one sweep per level on a multigrid PC with levels,
-/// unless options set them (the pre-solve hook; also for a wrapped PC).
-PetscErrorCode apply_multigrid_level_defaults(PC pc);
 /// Put -mat_no_inode in the options database unless given (see the .cpp).
 void default_no_inodes();
 

@@ -15,6 +15,7 @@
 
 #include "lem/system/distributed_lattice.hpp"
 #include "lem/base/petsc_handle.hpp"
+#include "lem/system/lanczos.hpp"
 
 #include <petscksp.h>
 
@@ -37,13 +38,6 @@ struct RitzPairs {
 /// Ritz vectors.  u0 is not changed.  Memory: one vector per iteration.
 /// Collective.
 RitzPairs lanczos_ritz(Mat K, PC pc, Vec b, Vec u0, double rtol, int vectors);
-
-/// Eigenpairs of the Lanczos tridiagonal of CG from its step lengths
-/// alpha_0..alpha_{m-1} and ratios beta_1..beta_{m-1} (beta_k = rho_k /
-/// rho_{k-1}): the Ritz values ascending in `theta`, the eigenvectors as the
-/// columns of `y` (y[row * m + column]).
-void lanczos_eigenpairs(const std::vector<double>& alpha, const std::vector<double>& beta,
-                        std::vector<double>& theta, std::vector<double>& y);
 
 /// Run the probe on K u = b from `u0` with the preconditioner `pc` (set up)
 /// to relative residual `rtol`, and write `<prefix>_<solve>.txt` (residual

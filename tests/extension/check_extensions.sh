@@ -95,6 +95,22 @@ grep -q '"weakest_bonds_per_cycle"\|"counted_steps"' "$work/global/summary.json"
   fail "lem_fracture's summary has the extensions' fields"
 echo "ok: counted_global: $(grep -o '[0-9]* load steps relaxed' "$work/counted.log"), the same ruptures as the global scheme"
 
+# The solver lever (counted_lever.cpp): listed by -help, put around the
+# multigrid by its option, and it changes no result.
+grep -q -- "-solver_counted_applications" "$work/help.log" || fail "-help does not list the lever's option"
+"$extended" "${args[@]}" -solver_counted_applications -output_dir "$work/lever" > "$work/lever.log" 2>&1 ||
+  fail "-solver_counted_applications: $(tail -3 "$work/lever.log")"
+grep -q "^counted_lever: [1-9][0-9]* applications of the multigrid" "$work/lever.log" ||
+  fail "the lever was not put around the multigrid"
+without_clock() { rev "$1" | cut -d, -f2- | rev; }  # curve.csv but its last column, elapsed_s
+cmp -s "$work/lever/broken.csv" "$work/global/broken.csv" &&
+  cmp -s <(without_clock "$work/lever/curve.csv") <(without_clock "$work/global/curve.csv") ||
+  fail "the counting lever changed the result"
+"$extended" "${args[@]}" -pc_type ext_counted -output_dir "$work/as_pc" > "$work/as_pc.log" 2>&1 &&
+  fail "-pc_type ext_counted was accepted"
+grep -q "choose it with -solver_counted_applications" "$work/as_pc.log" || fail "-pc_type ext_counted: $(tail -2 "$work/as_pc.log")"
+echo "ok: the counting lever: $(grep -o '[0-9]* applications' "$work/lever.log" | head -1), the same result as lem_fracture"
+
 # The output: in the manifest of each result of the extended program, its
 # slabs summing to the ruptures plus the bonds of loose pieces; not in
 # lem_fracture's.

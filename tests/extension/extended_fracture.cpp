@@ -1,7 +1,8 @@
 // lem_fracture with a break rule, a relaxation scheme and an output added
 // from outside the library, in this one file, as docs/developer/extending.md
 // walks through: each is a class or a function and one registration before
-// the options are read.  The break rule and the scheme bring their options,
+// the options are read.  A solver lever is in a file of its own
+// (counted_lever.cpp), registered here by one line.  The break rule and the scheme bring their options,
 // their fingerprint lines and their summary fields in their registry
 // entries.
 #include "lem/base/error.hpp"
@@ -9,6 +10,7 @@
 #include "lem/run/fracture_run.hpp"
 #include "lem/base/log.hpp"
 #include "lem/protocol/registry.hpp"
+#include "lem/system/solver_lever.hpp"
 
 #include <algorithm>
 #include <array>
@@ -131,7 +133,10 @@ void write_damage_profile(const lem::DistributedLattice& l, const lem::FractureR
 
 }  // namespace
 
+lem::SolverLeverEntry counted_lever_entry();  // counted_lever.cpp
+
 int main(int argc, char** argv) {
+  lem::register_solver_lever(counted_lever_entry());
   lem::register_break_rule(weakest_first_entry());
   // The scheme's option lives beside its factory, which reads it.
   auto label = std::make_shared<std::string>();

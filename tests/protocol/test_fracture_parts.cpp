@@ -175,6 +175,22 @@ TEST(Checkpoint, FingerprintDifferencesNameTheLinesAndAllowOtherRankCounts) {
   EXPECT_NE(compare_fingerprints("ranks=2\n", ours, "checkpoint").differs, "");
 }
 
+// A removed option's unused value in a fingerprint written before the
+// removal is no difference; another value of it is.
+TEST(Checkpoint, FingerprintOfARemovedOptionAtItsUnusedValueAgrees) {
+  const std::string ours = "nodes=10\n-solver_ritz_deflation=0\n";
+  EXPECT_EQ(compare_fingerprints("nodes=10\n-solver_ritz_deflation=0\n"
+                                 "-solver_soft_node_deflation=0\n",
+                                 ours, "finished")
+                .differs,
+            "");
+  const std::string d = compare_fingerprints("nodes=10\n-solver_ritz_deflation=0\n"
+                                             "-solver_soft_node_deflation=0.3\n",
+                                             ours, "finished")
+                            .differs;
+  EXPECT_NE(d.find("-solver_soft_node_deflation=0.3"), std::string::npos) << d;
+}
+
 // A line that only one side has is named, not "(a different option set)";
 // the sums of a set-up on other ranks agree to 1e-10; solver options may
 // differ where allowed (a checkpoint) and are named apart.

@@ -11,6 +11,7 @@
 #pragma once
 
 #include "lem/system/distributed_lattice.hpp"
+#include "lem/system/solver_lever.hpp"
 #include "lem/base/petsc_handle.hpp"
 
 #include <petscksp.h>
@@ -24,13 +25,11 @@
 
 namespace lem {
 
-class ParticleDeflation;
 class BondOperator;
 class SingleCycle;
-class RitzDeflation;
-class SoftNodeDeflation;
 
-/// The most columns -solver_ritz_deflation keeps (and a checkpoint holds).
+/// The most columns a lever learns (-solver_ritz_deflation), which a
+/// checkpoint holds.
 constexpr int kMostRitzColumns = 64;
 
 /// The operator CG applies: the assembled matrix K, or K applied bond by bond
@@ -101,23 +100,14 @@ KSP create_patch_solver(MPI_Comm comm, double rtol);
 struct SolverOptions {
   /// -lattice_ground_stiffness, relative to the mean nodal stiffness.
   double ground_stiffness = 1e-10;
-  /// -solver_particle_deflation: deflate every particle's rigid-body modes
-  /// around the preconditioner (cemented samples).
-  bool particle_deflation = false;
   /// -solver_operator: what CG multiplies by.
   SolverOperator solver_operator = SolverOperator::bonds;
   /// -solver_cycle_precision single: the multigrid cycle in float
   /// (lem/system/single_cycle.hpp); CG stays in double.
   bool single_cycle = false;
-  /// -solver_ritz_deflation: most columns of the Ritz-vector deflation
-  /// space (0: none).
-  int ritz_deflation = 0;
-  /// -solver_soft_node_deflation: deflate a node's direction whose
-  /// diagonal-scaled block eigenvalue is below this (0: none).
-  double soft_node_deflation = 0;
-  /// -solver_damage_aggregates: layers of nodes around broken bonds whose
-  /// GAMG aggregates are split (src/system/damage_aggregation.hpp; 0: none).
-  int damage_aggregates = 0;
+  /// The solver levers chosen by their options, in the order they are put
+  /// around the multigrid (lem/system/solver_lever.hpp).
+  std::vector<LeverChoice> levers;
   /// -solver_spectrum_solves / -solver_spectrum_prefix: the solves (counted
   /// from 1 by the process) at which the spectrum probe runs, and where it
   /// writes (a diagnostic; src/system/spectrum_probe.hpp).
@@ -216,9 +206,9 @@ class ElasticSystem {
   void set_state(const std::vector<double>& owned, double top_displacement,
                  const std::vector<double>& owned_check = {});
   /// What the solver learnt from the solves so far, which a resumed run
-  /// needs to solve as the uninterrupted one: the deflation space of
-  /// -solver_ritz_deflation, its columns shared (a column never changes once
-  /// learnt); empty without the option.
+  /// needs to solve as the uninterrupted one: the space of the lever that
+  /// learns (-solver_ritz_deflation), its columns shared (a column never
+  /// changes once learnt); empty without one.
   std::vector<VecHandle> learnt_space() const;
   /// A resumed run: the learnt space, each column as this rank's owned
   /// values (laid out as solution()); ignored without the option.
@@ -261,7 +251,7 @@ class ElasticSystem {
   struct ConvergenceTest;
   void install_convergence_test();
   void set_up_preconditioner();  // from the current K, now
-  void mark_damage();            // -solver_damage_aggregates, before a build
+  void before_build();           // the levers' hook, before a build
   void create_fallback();
   SolveReport fallback_solve();
   Point local_displacement(const PetscScalar* u_local, int node) const;
@@ -273,20 +263,17 @@ class ElasticSystem {
   VecHandle u_start_;  // initial guess kept for a retry
   VecHandle u_check_;  // ghosted: the check field of a decided solve (mark_check)
   KspHandle ksp_;
-  ConvergenceTest* convergence_ = nullptr;         // owned by ksp_ (destroyed with it)
-  KspHandle fallback_ksp_;                         // CG + Jacobi, for solves the multigrid fails
-  std::unique_ptr<ParticleDeflation> deflation_;   // -solver_particle_deflation
-  std::unique_ptr<RitzDeflation> ritz_;            // -solver_ritz_deflation
-  std::unique_ptr<SoftNodeDeflation> soft_nodes_;  // -solver_soft_node_deflation
-  std::unique_ptr<BondOperator> bonds_;            // -solver_operator bonds
-  std::unique_ptr<SingleCycle> single_cycle_;      // -solver_cycle_precision single
+  ConvergenceTest* convergence_ = nullptr;     // owned by ksp_ (destroyed with it)
+  KspHandle fallback_ksp_;                     // CG + Jacobi, for solves the multigrid fails
+  std::vector<SolverLever*> levers_;           // owned by their PCs (so by ksp_)
+  std::unique_ptr<BondOperator> bonds_;        // -solver_operator bonds
+  std::unique_ptr<SingleCycle> single_cycle_;  // -solver_cycle_precision single
   double diagonal_scale_ = 1.0;
   double ground_ = 0.0;  // diagonal added on free dofs (-lattice_ground_stiffness)
   double current_displacement_ = 0.0;
   bool operator_changed_ = true;
   bool equilibrium_ = false;                   // u_ solves K u = b to -ksp_rtol (not stopped early)
   bool reuse_pc_ = false;                      // keep the preconditioner when K changes
-  int damage_aggregates_ = 0;                  // -solver_damage_aggregates
   bool pc_stale_ = false;                      // the next solve must build a fresh preconditioner
   bool pc_ready_ = false;                      // a preconditioner has been built
   bool tighter_solve_ = false;                 // in solve_to: -log_view stage "Solve, tighter rtol"

@@ -22,28 +22,38 @@
 #pragma once
 
 #include "lem/base/petsc_handle.hpp"
-#include "wrapped_preconditioner.hpp"
+#include "lem/solver/wrapped_lever.hpp"
 
 #include <petscksp.h>
 
+#include <string>
+#include <utility>
 #include <vector>
 
 namespace lem {
 
-class RitzDeflation : public WrappedPreconditioner {
+class RitzDeflation final : public WrappedLever {
  public:
-  /// Wraps the KSP's current preconditioner (kept as the inner M) in a shell
-  /// that applies the deflated one.  `K` is the assembled matrix.
-  RitzDeflation(Mat K, KSP ksp, int count);
+  static constexpr const char* kType = "lem_ritz_deflation";
+  static constexpr const char* kName = "Ritz-vector deflation";
+  /// The registry entry: -solver_ritz_deflation N chooses it.
+  static SolverLeverEntry entry();
 
+  RitzDeflation() = default;
   /// K changed (values or constraints): K W and W^T K W are formed again
   /// before the next solve.
-  void operator_changed() { coarse_stale_ = true; }
+  void operator_changed() override { coarse_stale_ = true; }
   /// Before KSPSolve on (b, u), after the preconditioner is set up: bring
   /// the coarse operator up to date, move u by Q (b - K u) and start
   /// recording the solve (u must be the KSP's solution vector).
-  void prepare(Vec b, Vec u);
+  void prepare(Vec b, Vec u) override;
   /// After KSPSolve: the Ritz vectors of the recorded solve join W.
+  void after_solve() override { learn(); }
+  std::vector<VecHandle> learnt_space() const override { return columns(); }
+  void restore_learnt_space(std::vector<VecHandle> columns) override {
+    restore(std::move(columns));
+  }
+  std::string learning_option() const override { return "-solver_ritz_deflation"; }
   void learn();
   /// Columns of W.
   int size() const { return static_cast<int>(W_.size()); }
@@ -57,13 +67,15 @@ class RitzDeflation : public WrappedPreconditioner {
   void restore(std::vector<VecHandle> columns);
 
  private:
-  static PetscErrorCode shell_apply(PC pc, Vec r, Vec z);
+  friend class WrappedLever;
+  void wrapped(const LeverSite& site) override;
+  static PetscErrorCode apply(PC pc, Vec r, Vec z);
   void record(Vec r, Vec z);
   void form_coarse();
   void coarse_solve(std::vector<PetscScalar>& t) const;  // t = E^-1 t
 
-  Mat K_;
-  int count_;
+  Mat K_ = nullptr;
+  int count_ = 0;
   std::vector<VecHandle> W_, KW_;
   std::vector<Vec> w_, kw_;     // the same, for PETSc's multi-vector calls
   std::vector<double> factor_;  // lower Cholesky factor of E = W^T K W

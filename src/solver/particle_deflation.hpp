@@ -15,38 +15,43 @@
 // factored again whenever K changes.
 #pragma once
 
-#include "lem/system/distributed_lattice.hpp"
+#include "lem/solver/wrapped_lever.hpp"
+
 #include "lem/base/petsc_handle.hpp"
-#include "wrapped_preconditioner.hpp"
+#include "lem/system/distributed_lattice.hpp"
 
 #include <petscksp.h>
 
 namespace lem {
 
-class ParticleDeflation : public WrappedPreconditioner {
+class ParticleDeflation final : public WrappedLever {
  public:
-  /// Wraps the KSP's current preconditioner (kept as the inner M) in a shell
-  /// that applies the deflated one.  Throws InputError if the lattice has no
-  /// particles.
-  ParticleDeflation(const DistributedLattice& lattice, Mat K, KSP ksp);
+  static constexpr const char* kType = "lem_particle_deflation";
+  static constexpr const char* kName = "per-particle rigid-body deflation";
+  /// The registry entry: -solver_particle_deflation chooses it.
+  static SolverLeverEntry entry();
 
+  ParticleDeflation() = default;
   /// K changed in place (values only): the coarse operator is formed again
   /// before the next solve.
-  void operator_changed() { coarse_stale_ = true; }
+  void operator_changed() override { coarse_stale_ = true; }
   /// Degrees of freedom were constrained (pinned nodes): W is built again.
-  void constraints_changed() { space_stale_ = true; }
+  void constraints_changed() override { space_stale_ = true; }
   /// Before a solve, after the preconditioner is set up: bring the coarse
   /// operator up to date and move the initial guess u by Q (b - K u).
-  void prepare(Vec b, Vec u);
+  void prepare(Vec b, Vec u) override;
 
  private:
-  static PetscErrorCode shell_apply(PC pc, Vec r, Vec z);
+  friend class WrappedLever;
+  /// Throws InputError if the lattice has no particles.
+  void wrapped(const LeverSite& site) override;
+  static PetscErrorCode apply(PC pc, Vec r, Vec z);
   void build_space();
   void form_coarse();
   void apply_q(Vec v, Vec out);  // out = Q v
 
-  const DistributedLattice& lattice_;
-  Mat K_;
+  const DistributedLattice* lattice_ = nullptr;
+  Mat K_ = nullptr;
   MatHandle W_, Wt_, coarse_matrix_;
   KspHandle coarse_;
   VecHandle coarse_rhs_, coarse_solution_, work_, work2_;

@@ -45,7 +45,7 @@ Lattice block_lattice(std::int64_t nodes) {
 }
 
 SolverOptions ritz(SolverOptions o, int count = 24) {
-  o.ritz_deflation = count;
+  o.levers.push_back({"lem_ritz_deflation", static_cast<double>(count)});
   return o;
 }
 
@@ -97,16 +97,27 @@ TEST_F(RitzDeflationTest, FollowsInPlaceChangesWithItsMultigridReused) {
 }
 
 TEST_F(RitzDeflationTest, NotWithThePerParticleDeflation) {
-  const Lattice l = block_lattice(1000);
-  DistributedLattice dl = distributed(PETSC_COMM_WORLD, l);
-  SolverOptions both = ritz(exact);
-  both.particle_deflation = true;
+  PetscOptionsSetValue(nullptr, "-solver_ritz_deflation", "16");
+  PetscOptionsSetValue(nullptr, "-solver_particle_deflation", nullptr);
   try {
-    ElasticSystem system(dl, both);
-    FAIL() << "no error";
+    read_solver_options(PETSC_COMM_WORLD);
+    ADD_FAILURE() << "no error";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("cannot be used together"), std::string::npos) << e.what();
   }
+  PetscOptionsClearValue(nullptr, "-solver_particle_deflation");
+  const SolverOptions o = read_solver_options(PETSC_COMM_WORLD);
+  ASSERT_EQ(o.levers.size(), 1u);
+  EXPECT_EQ(o.levers[0].type, "lem_ritz_deflation");
+  EXPECT_EQ(o.levers[0].setting, 16);
+  PetscOptionsClearValue(nullptr, "-solver_ritz_deflation");
+  EXPECT_TRUE(read_solver_options(PETSC_COMM_WORLD).levers.empty());
+}
+
+TEST_F(RitzDeflationTest, ChosenWithItsOptionNotWithPcType) {
+  PetscOptionsSetValue(nullptr, "-pc_type", "lem_ritz_deflation");
+  EXPECT_THROW(read_solver_options(PETSC_COMM_WORLD), InputError);
+  PetscOptionsClearValue(nullptr, "-pc_type");
 }
 
 TEST_F(RitzDeflationTest, SpectrumProbeWritesConsistentRitzValues) {

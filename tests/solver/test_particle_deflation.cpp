@@ -53,7 +53,7 @@ Lattice particle_lattice(std::int64_t nodes) {
 }
 
 SolverOptions deflated(SolverOptions o) {
-  o.particle_deflation = true;
+  o.levers.push_back({"lem_particle_deflation", 1});
   return o;
 }
 

@@ -1,16 +1,22 @@
-#include "damage_aggregation.hpp"
+// The one file that reaches into PETSc's private structures, for PETSc 3.18
+// only: the operations table of a PC (so that a lever is a PC type of its
+// own, as PETSc's built-in ones are) and GAMG's coarsening, whose
+// aggregates -solver_damage_aggregates splits.  Both change between PETSc
+// versions; porting means reading this file against the new headers.
+#include "petsc318_private.hpp"
 
 #include "lem/base/error.hpp"
 
 #include <petscversion.h>
 
-// GAMG's coarsening is reached through its private operations table, whose
-// layout and contract belong to one PETSc version.
-#if PETSC_VERSION_MAJOR == 3 && PETSC_VERSION_MINOR == 18
-#define LEM_GAMG_COARSEN_HOOK 1
-#include <petsc/private/pcgamgimpl.h>
-#include <petscmatcoarsen.h>
+#if !(PETSC_VERSION_MAJOR == 3 && PETSC_VERSION_MINOR == 18)
+#error \
+    "src/solver/petsc318_private.cpp is written against PETSc 3.18's private headers (PC operations, GAMG's coarsening); this PETSc is another version: port the file first"
 #endif
+
+#include <petsc/private/pcgamgimpl.h>
+#include <petsc/private/pcimpl.h>
+#include <petscmatcoarsen.h>
 
 #include <algorithm>
 #include <cstring>
@@ -18,7 +24,19 @@
 #include <vector>
 
 namespace lem {
-#ifdef LEM_GAMG_COARSEN_HOOK
+
+void define_pc_type(PC pc, void* data, const PcOperations& ops) {
+  pc->data = data;
+  pc->ops->setup = ops.setup;
+  pc->ops->apply = ops.apply;
+  pc->ops->destroy = ops.destroy;
+  pc->ops->view = ops.view;
+}
+
+void* pc_type_data(PC pc) { return pc->data; }
+
+void clear_pc_type_data(PC pc) { pc->data = nullptr; }
+
 namespace {
 
 // A piece smaller than this carries the six rigid modes badly or not at all
@@ -206,43 +224,21 @@ PetscErrorCode coarsen_near_damage(PC pc, Mat* graph, PetscCoarsenData** lists) 
 
 }  // namespace
 
-void prepare_damage_aggregation(KSP ksp, const DistributedLattice& lattice, int layers) {
-  PC pc;
-  LEM_PETSC(KSPGetPC(ksp, &pc));
+bool is_gamg_aggregation(PC pc) {
   PetscBool gamg = PETSC_FALSE;
   LEM_PETSC(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(pc), PCGAMG, &gamg));
   PC_GAMG* g = gamg ? gamg_of(pc) : nullptr;
-  if (!g || !g->ops || std::strcmp(g->type, PCGAMGAGG) != 0)
-    throw InputError("option -solver_damage_aggregates needs GAMG's aggregation (-pc_type gamg "
-                     "-pc_gamg_type agg) as the preconditioner itself, not wrapped by a "
-                     "deflation or the single-precision cycle");
+  return g && g->ops && std::strcmp(g->type, PCGAMGAGG) == 0;
+}
+
+void split_aggregates_near(PC pc, std::vector<char> near_damage) {
+  PC_GAMG* g = gamg_of(pc);
   if (g->ops->coarsen != coarsen_near_damage) {
     gamg_coarsen = g->ops->coarsen;
     g->ops->coarsen = coarsen_near_damage;
   }
   auto* marks = new DamageMarks;
-  std::vector<char>& near = marks->near_damage;
-  near.assign(lattice.owned, 0);
-  for (int b = 0; b < lattice.local_bonds(); ++b) {
-    if (lattice.bond_stiffness[b] != 0.0) continue;
-    // Bare contacts (no strength) all break at the first load: they are the
-    // texture of the sample, not a crack, and splitting there would grow the
-    // coarse level everywhere (docs/notes/slow-modes.md).
-    if (!lattice.bond_strength.empty() && lattice.bond_strength[b] <= 0.0) continue;
-    for (int end : lattice.bond_ends[b])
-      if (end < lattice.owned) near[end] = 1;
-  }
-  // Each further layer: the owned nodes one intact bond from a marked one.
-  for (int layer = 1; layer < layers; ++layer) {
-    std::vector<char> grown = near;
-    for (int b = 0; b < lattice.local_bonds(); ++b) {
-      const int u = lattice.bond_ends[b][0], v = lattice.bond_ends[b][1];
-      if (lattice.bond_stiffness[b] == 0.0 || u >= lattice.owned || v >= lattice.owned) continue;
-      if (near[u]) grown[v] = 1;
-      if (near[v]) grown[u] = 1;
-    }
-    near.swap(grown);
-  }
+  marks->near_damage = std::move(near_damage);
   PetscContainer container;
   LEM_PETSC(PetscContainerCreate(PETSC_COMM_SELF, &container));
   LEM_PETSC(PetscContainerSetPointer(container, marks));
@@ -251,11 +247,5 @@ void prepare_damage_aggregation(KSP ksp, const DistributedLattice& lattice, int 
                                reinterpret_cast<PetscObject>(container)));
   LEM_PETSC(PetscContainerDestroy(&container));
 }
-#else
-void prepare_damage_aggregation(KSP, const DistributedLattice&, int) {
-  throw InputError("option -solver_damage_aggregates needs PETSc 3.18 (it works inside GAMG's "
-                   "coarsening, whose internals change between versions)");
-}
-#endif
 
 }  // namespace lem

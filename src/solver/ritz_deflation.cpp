@@ -1,9 +1,9 @@
 #include "ritz_deflation.hpp"
 
-#include "spectrum_probe.hpp"
-
 #include "lem/base/error.hpp"
 #include "lem/base/log.hpp"
+#include "lem/system/elastic_system.hpp"
+#include "lem/system/lanczos.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -18,8 +18,23 @@ constexpr int kMaxRecorded = 100;
 constexpr double kSlow = 0.1;
 }  // namespace
 
-RitzDeflation::RitzDeflation(Mat K, KSP ksp, int count)
-    : WrappedPreconditioner(ksp, "Ritz-vector deflation", shell_apply), K_(K), count_(count) {
+SolverLeverEntry RitzDeflation::entry() {
+  return WrappedLever::entry<RitzDeflation>(
+      "-solver_ritz_deflation",
+      [](OptionGroup& g) -> double {
+        return static_cast<double>(g.integer(
+            "-solver_ritz_deflation",
+            "Deflate up to this many slow Ritz vectors of the "
+            "multigrid-preconditioned K around the preconditioner (A-DEF2), learnt from the "
+            "Lanczos vectors of the solves themselves (docs/model/fracture.md); 0: none",
+            0, 0, kMostRitzColumns));
+      },
+      "one deflation space");
+}
+
+void RitzDeflation::wrapped(const LeverSite& site) {
+  K_ = site.K;
+  count_ = static_cast<int>(site.setting);
   LEM_PETSC(MatCreateVecs(K_, work_.replace(), nullptr));
   LEM_PETSC(VecDuplicate(work_, x_last_.replace()));
   LEM_PETSC(VecDuplicate(work_, p_.replace()));
@@ -212,7 +227,7 @@ void RitzDeflation::prepare(Vec b, Vec u) {
 
 // z = y + W E^-1 (W^T r - (K W)^T y) with y = M^-1 r: the A-DEF2
 // preconditioner without a product with K (K is symmetric).
-PetscErrorCode RitzDeflation::shell_apply(PC pc, Vec r, Vec z) {
+PetscErrorCode RitzDeflation::apply(PC pc, Vec r, Vec z) {
   PetscFunctionBeginUser;
   RitzDeflation* d = nullptr;
   PetscCall(context(pc, &d));

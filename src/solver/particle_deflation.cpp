@@ -1,7 +1,5 @@
 #include "particle_deflation.hpp"
 
-#include "solver_defaults.hpp"
-
 #include "lem/base/error.hpp"
 #include "lem/base/log.hpp"
 #include "lem/system/tension.hpp"
@@ -62,12 +60,28 @@ std::vector<Modes> orthonormal_modes(const double* G) {
 
 }  // namespace
 
-ParticleDeflation::ParticleDeflation(const DistributedLattice& lattice, Mat K, KSP ksp)
-    : WrappedPreconditioner(ksp, "per-particle rigid-body deflation", shell_apply),
-      lattice_(lattice),
-      K_(K) {
-  int has = lattice_.node_particle.empty() ? 0 : 1, any = 0;
-  MPI_Allreduce(&has, &any, 1, MPI_INT, MPI_MAX, lattice_.comm);
+SolverLeverEntry ParticleDeflation::entry() {
+  return WrappedLever::entry<ParticleDeflation>(
+      "-solver_particle_deflation",
+      [](OptionGroup& g) -> double {
+        return g.flag("-solver_particle_deflation",
+                      "Deflate the six rigid-body modes of every "
+                      "particle around the preconditioner (a coarse space of 6 unknowns per "
+                      "particle, solved exactly).  For porous cemented samples, where stiff "
+                      "particles joined by a few soft bridges make CG slow "
+                      "(docs/benchmarks.md); needs a cemented sample",
+                      false)
+                   ? 1
+                   : 0;
+      },
+      "one deflation space");
+}
+
+void ParticleDeflation::wrapped(const LeverSite& site) {
+  lattice_ = &site.lattice;
+  K_ = site.K;
+  int has = lattice_->node_particle.empty() ? 0 : 1, any = 0;
+  MPI_Allreduce(&has, &any, 1, MPI_INT, MPI_MAX, lattice_->comm);
   if (!any)
     throw InputError("-solver_particle_deflation needs the particle of every node: use a "
                      "cemented sample (-sample_file or -sample_*), not a plain lattice");
@@ -76,7 +90,7 @@ ParticleDeflation::ParticleDeflation(const DistributedLattice& lattice, Mat K, K
   // operator, so a resumed run (whose builds all set the operator) parted
   // from the uninterrupted one in the last bits.
 
-  create_coarse_solver(lattice_.comm, coarse_);
+  create_coarse_solver(lattice_->comm, coarse_);
   LEM_PETSC(MatCreateVecs(K_, work_.replace(), nullptr));
   LEM_PETSC(VecDuplicate(work_, work2_.replace()));
 }
@@ -84,7 +98,7 @@ ParticleDeflation::ParticleDeflation(const DistributedLattice& lattice, Mat K, K
 // W from the particles' nodes; columns numbered particle by particle, so the
 // space does not depend on the number of ranks.
 void ParticleDeflation::build_space() {
-  const DistributedLattice& l = lattice_;
+  const DistributedLattice& l = *lattice_;
   std::int32_t last = -1;
   for (int n = 0; n < l.owned; ++n) last = std::max(last, l.node_particle[n]);
   std::int32_t particles = 0;
@@ -203,7 +217,7 @@ void ParticleDeflation::prepare(Vec b, Vec u) {
 
 // z = (I - Q K) M^-1 r + Q r, written as y = M^-1 r, z = y + Q (r - K y):
 // one coarse solve per iteration.
-PetscErrorCode ParticleDeflation::shell_apply(PC pc, Vec r, Vec z) {
+PetscErrorCode ParticleDeflation::apply(PC pc, Vec r, Vec z) {
   PetscFunctionBeginUser;
   ParticleDeflation* d = nullptr;
   PetscCall(context(pc, &d));
