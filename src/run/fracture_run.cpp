@@ -143,7 +143,7 @@ Calibration calibrate(MPI_Comm comm, const SampleOptions& sample, const SolverOp
   hom_output.dir = dir + "/calibration";
   hom_output.strength_unit = sample.phases.strength[0];
   // Only the peak is needed: stop once the avalanche that follows it has
-  // taken a tenth of the stress (docs/model/fracture.md, "Normalisation and the calibration").
+  // taken a tenth of the stress (docs/model/fracture-calibration.md).
   hom_options.stop_fraction = std::max(options.stop_fraction, kCalibrationStopFraction);
   hom_options.stop_within_step = true;
   // -fracture_max_steps bounds the sample run, not its calibration; the

@@ -94,7 +94,8 @@ const ResultLayout& fracture_layout() {
                                       {"fields"},
                                       {"elastic", "snapshot", "snapshots"},
                                       {"calibration", "checkpoint.bin", "fracture.png",
-                                       "fracture.pdf", "stress.png", "stress.pdf", "stress.json"}};
+                                       "fracture.pdf", "stress.png", "stress.pdf", "stress.json",
+                                       "crack.png", "crack.pdf"}};
   return layout;
 }
 

@@ -15,7 +15,7 @@
 namespace lem {
 namespace {
 
-// Solver defaults measured on this problem (docs/benchmarks.md).  They are
+// Solver defaults measured on this problem (docs/benchmarks-solver.md).  They are
 // set on the objects before KSPSetFromOptions, so any -ksp_*/-pc_*/-mg_*
 // option overrides them; this table only documents them (-help, provenance)
 // and must follow apply_solver_defaults() and default_no_inodes().

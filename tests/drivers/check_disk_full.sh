@@ -1,7 +1,8 @@
 #!/bin/bash
 # A full disk during a collective write (parallel HDF5 at 2 ranks) ends the
 # job within seconds with exit 3, naming the file and the error, and leaves
-# nothing under a final name (docs/developer/reliability.md, "A full disk in a collective write").
+# nothing under a final name (docs/developer/reliability-results.md, "A full disk in
+# a collective write").
 # Usage: check_disk_full.sh MODE LEM_FRACTURE LEM_SAMPLE WORKDIR MPIEXEC [MPI flags...]
 #   sizes      tmpfs of sizes chosen so that the disk fills in each writer:
 #              the first-equilibrium fields (elastic.h5, in a dataset and in

@@ -347,8 +347,8 @@ EOF
 ranks_mini)
   # Bare contacts whose force is solver noise near the force floor, and
   # any force near its threshold, must be decided alike on every rank count
-  # (docs/model/fracture.md, "Near-ties and the rank count").  The curves differ by the solves' own
-  # error, largest in the tail: 0.7-1.4e-6 of the peak measured (4e-8 up to
+  # (docs/model/fracture-decisions.md, "Near-ties and the rank count").  The curves
+  # differ by the solves' own error, largest in the tail: 0.7-1.4e-6 of the peak measured (4e-8 up to
   # the peak), as much as a run differs from one solved to 1e-12.
   root="$(cd "$(dirname "$0")/../.." && pwd)"
   for n in 1 2; do

@@ -1,6 +1,6 @@
 #!/bin/bash
 # The programs other than lem_fracture keep the same contract for their result
-# folder (docs/reference/outputs.md, "manifest.txt and the commit"): a finished
+# folder (docs/reference/result-folder.md, "manifest.txt and the commit"): a finished
 # result is recognised and not computed again, another run's result is refused
 # rather than replaced, a manifest missing the checksum of one of its files is
 # refused as damaged, -output_overwrite computes it again in place of the

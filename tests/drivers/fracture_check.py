@@ -430,7 +430,7 @@ def spec(a):
                 atol=1e-9)  # the summary's 10 digits
     check.at_most("energy_balance_error", s["energy_balance_error"], a.energy_bound)
 
-    # 4. The calibration stops where docs/model/fracture.md says: in the
+    # 4. The calibration stops where docs/model/fracture-calibration.md says: in the
     # first load step whose stress falls below 0.9 of the peak, and every
     # step before it ends with no bond over its threshold.  A bond broken in
     # the first cycle of step n had, at step n - 1 (the same damage, the

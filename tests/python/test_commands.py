@@ -26,7 +26,7 @@ def run_script(name, *args):
 def test_the_scripts_are_there():
     assert [os.path.basename(s) for s in SCRIPTS] == [
         "combine_studies.py", "increment_table.py", "options_reference.py", "paper_figures.py",
-        "plot_bridge_geometry.py",
+        "paper_numbers.py", "plot_bridge_geometry.py",
         "plot_convergence.py", "plot_crack.py", "plot_fracture.py", "plot_stiffness.py",
         "plot_stress.py",
         "plot_tension.py", "scaling.py", "study.py", "study_figures.py", "work_split.py"]

@@ -1,18 +1,20 @@
-"""The figures docs/model/fracture.md quotes for the main job and the tiny
+"""The figures the fracture pages (docs/model/fracture.md and the pages split
+from it, docs/model/fracture-*.md) quote for the main job and the tiny
 sample are those of the runs kept as gold (tests/gold/main, tests/gold/tiny:
 their summary.json and curve.csv).  A page left behind by a change of the
-code, or a gold remade without the page, fails here; no simulation is run.
+code, or a gold remade without the pages, fails here; no simulation is run.
 
 Two kinds of quotes are read:
 - the table "The figures of the shipped samples" (between its begin and end
   comments): one row per figure, its source in backticks, a cell for the
   main job's reference run and one for tiny ("—": not quoted);
 - figures in the prose, found by the phrases in PROSE below.  A phrase that
-  is no longer on the page fails too: reword the page and this list together.
+  is no longer on the pages fails too: reword the pages and this list together.
 
 A quoted figure matches when the gold value rounds to it at the digits quoted
 (1 855 is exact, 1.5·10⁻⁷ means 1.45·10⁻⁷ to 1.55·10⁻⁷, 35 % of 0.35)."""
 import csv
+import glob
 import json
 import os
 import re
@@ -20,7 +22,9 @@ import re
 import pytest
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
-PAGE = os.path.join(ROOT, "docs", "model", "fracture.md")
+# The protocol's page and the pages split from it by purpose (decisions,
+# solves, the calibration, the load increment): a figure may sit on any.
+PAGES = sorted(glob.glob(os.path.join(ROOT, "docs", "model", "fracture*.md")))
 GOLD = os.path.join(ROOT, "tests", "gold")
 SAMPLES = ("main", "tiny")
 
@@ -105,13 +109,13 @@ SOURCES = {
 }
 
 
-# ---------------------------------------------------------------- the page
+# ---------------------------------------------------------------- the pages
 TABLE_BEGIN = "<!-- begin: figures of the shipped samples"
 TABLE_END = "<!-- end -->"
 
 # (id, sample, source, phrase): the phrase's group `v` is a figure of that
-# gold run.  Every phrase must be on the page at least once (whitespace in
-# the page counts as one space).
+# gold run.  Every phrase must be on the pages at least once (whitespace in
+# the pages counts as one space).
 N = "(?P<v>" + NUMBER + ")"
 PROSE = [
     ("a of mini", "main", "mean_bond_length",
@@ -138,8 +142,11 @@ PROSE = [
 
 
 def page_text():
-    with open(PAGE, encoding="utf-8") as f:
-        return f.read()
+    texts = []
+    for page in PAGES:
+        with open(page, encoding="utf-8") as f:
+            texts.append(f.read())
+    return "\n\n".join(texts)
 
 
 def table_rows(text):
@@ -174,7 +181,7 @@ def check(sample, source, quoted, where):
 # ---------------------------------------------------------------- tests
 def test_the_page_has_the_figures_table():
     rows = table_rows(page_text())
-    assert rows, "docs/model/fracture.md has no table starting with %r" % TABLE_BEGIN
+    assert rows, "docs/model/fracture*.md have no table starting with %r" % TABLE_BEGIN
     quoted = {(sample, source) for _, source, cells in rows for sample in SAMPLES
               if cells[sample] not in ("—", "-", "")}
     for must in ("rows of curve.csv", "broken", "steps", "energy_balance_error"):
@@ -204,8 +211,8 @@ def test_table_figures_are_the_gold():
 def test_prose_figures_are_the_gold(name, sample, source, phrase):
     text = re.sub(r"\s+", " ", page_text())
     found = list(re.finditer(phrase, text))
-    assert found, ("docs/model/fracture.md no longer quotes %r (%s of tests/gold/%s): "
-                   "update the page or PROSE" % (name, source, sample))
+    assert found, ("docs/model/fracture*.md no longer quote %r (%s of tests/gold/%s): "
+                   "update the pages or PROSE" % (name, source, sample))
     problems = []
     for m in found:
         problems += check(sample, source, m.group("v"), "prose %r" % m.group(0))
@@ -243,7 +250,7 @@ CALIBRATION_STEPS = ("The calibration's run is bounded by 10⁶ load steps (the 
                      "gives: that option bounds the sample's run only.")
 
 
-@pytest.mark.parametrize("page", ["model/fracture.md", "reference/exit-status.md"])
+@pytest.mark.parametrize("page", ["model/fracture-calibration.md", "reference/exit-status.md"])
 def test_calibration_step_limit_worded_once(page):
     with open(os.path.join(ROOT, "docs", page), encoding="utf-8") as f:
         text = re.sub(r"\s+", " ", f.read())

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from conftest import TOOLS, write_curve, write_manifest, write_study_file
-from lem_tools import analysis, convergence_table, study, study_data
+from lem_tools import analysis, convergence_table, paper, study, study_data
 from lem_tools.study import Study
 
 ROOT = os.path.dirname(TOOLS)
@@ -229,7 +229,7 @@ KEPT = [("tiny-grid", True), ("paper-64", True), ("paper-64-packings", False),
         ("increment-64-x0.5", False), ("increment-64-x1", False), ("increment-64-x2", False),
         ("increment-64-x4", False), ("increment-516-x0.5", True), ("increment-516-x1", True),
         ("increment-516-x2", True), ("increment-516-x4", True), ("paper-516-line", True),
-        ("paper-516-grid", False)]
+        ("paper-516-grid", False), ("coating-64", False), ("fig3-64", False)]
 
 
 def test_every_data_folder_is_listed():
@@ -445,17 +445,34 @@ def test_the_paper_statements_are_drawn_on_its_figures(tiny_figures):
     for label, slope in (("A = 0.3", 0.3), ("slope 0.2", 0.2)):
         x, y = line(a, label)
         assert y[1:] / x[1:] == pytest.approx(slope)
-    (ax,) = figs["fig14"].axes
-    assert line(ax, "onset")[0][0] == 0.4 and line(ax, "inflection")[0][0] == 1.0
-    c = figs["fig15"].axes[0]
-    assert line(c, "eq. 13")[1][0] == 0.4
-    # eq. 14's frontier: sigma^pm/sigma^p = 0.7^2 E^pm / (E^p E_eff/E^[p]) per rho^m
-    rhos, frontier = line(c, "eq. 14")
+    # n_b both ways: (a) as the paper counts it, (b) without the bare contacts
+    a, b = figs["fig14"].axes
+    for ax, column in ((a, "n_b"), (b, "n_b_without_bare_contacts")):
+        assert line(ax, "onset")[0][0] == 0.4 and line(ax, "inflection")[0][0] == 1.0
+        last = [float(c.lines[0].get_ydata()[-1]) for c in ax.containers]   # at sigma^pm 1.4
+        assert last == pytest.approx([float(p[column]) for p in points
+                                      if p["sigma_pm_ratio"] == 1.4])
     e_eff = {p["rho_m"]: p["E_eff_over_E_unit"] for p in analysis.sample_means(rows)}
-    assert list(rhos) == sorted(e_eff)
-    assert frontier == pytest.approx([0.49 / 3 / e_eff[rho] for rho in rhos])
-    a, b = figs["fig16"].axes
-    assert line(a, "eq. 14")[0][0] == 0.7 and line(b, "eq. 13")[0][0] == 0.4
+    for c in figs["fig15"].axes[:2]:
+        assert line(c, "eq. 13")[1][0] == 0.4
+        # eq. 14's frontier: sigma^pm/sigma^p = 0.7^2 E^pm / (E^p E_eff/E^[p]) per rho^m,
+        # with the samples' E_eff and with E_eff at L_n -> 0 (interpolated in rho^m)
+        rhos, frontier = line(c, "the samples'")
+        assert list(rhos) == sorted(e_eff)
+        assert frontier == pytest.approx([0.49 / 3 / e_eff[rho] for rho in rhos])
+        rhos, frontier = line(c, "L_n")
+        converged = np.interp(rhos, sorted(paper.CONVERGED_MODULI),
+                              [paper.CONVERGED_MODULI[r] for r in sorted(paper.CONVERGED_MODULI)])
+        assert frontier == pytest.approx(0.49 / 3 / converged)
+    a, b, c = figs["fig16"].axes[:3]
+    assert line(a, "eq. 14")[0][0] == 0.7 and line(c, "eq. 13")[0][0] == 0.4
+    # (b): K_c^r of eq. 14 with E_eff at L_n -> 0 of the rho^m series
+    for container, rho in zip(b.containers, sorted(e_eff)):
+        e = np.interp(rho, sorted(paper.CONVERGED_MODULI),
+                      [paper.CONVERGED_MODULI[r] for r in sorted(paper.CONVERGED_MODULI)])
+        ratios = sorted({p["sigma_pm_ratio"] for p in points})
+        assert np.asarray(container.lines[0].get_xdata(), dtype=float) == \
+            pytest.approx(np.sqrt(3 * e * np.array(ratios)))
 
 
 def test_the_error_bars_are_the_scatter_between_packings(tiny_figures):

@@ -38,7 +38,8 @@ def synthetic_rows(seeds=(1,)):
                 rows.append({"id": "p%d_%g_%g" % (seed, rho, ratio), "lattice": "p%d" % seed,
                              "rho_m": rho, "sigma_pm_ratio": ratio, "E_eff_over_E_unit": v,
                              "sigma_eff_over_sigma_unit": 2 * v, "sigma_eff_over_sigma_pm": 3 * v,
-                             "n_b": 0.1 * v, "K_c_r_eq14": 4 * v, "beta": 1 + v})
+                             "n_b": 0.1 * v, "n_b_without_bare_contacts": 0.5 * v,
+                             "K_c_r_eq14": 4 * v, "beta": 1 + v})
     return rows
 
 
@@ -88,7 +89,7 @@ def stars(ax):
 def test_paper_values_in_the_units_of_the_figures():
     # moduli through E_m/E_p: 1.6 E^[m] = 1.6 / 2.5 E^[p]; beta is a pure number
     assert paper.paper_values("E_eff_over_E_unit", PHASES) == [
-        (0.28, pytest.approx(1.6 / 2.5), "sect. 5", "1.6 $E^{[m]}$")]
+        (0.28, pytest.approx(1.6 / 2.5), "sect. 3", "1.6 $E^{[m]}$")]
     assert [(r, v) for r, v, *_ in paper.paper_values("beta", PHASES)] == [(0.06, 0.7),
                                                                             (0.28, 2.1)]
     assert paper.paper_source("beta") == "sect. 4, fig. 8"
@@ -103,7 +104,7 @@ def test_stiffness_figure_stars_the_paper_at_its_converted_values(close_figures)
     (modulus,) = stars(a)
     assert list(modulus.get_xdata()) == [0.28]
     assert list(modulus.get_ydata()) == [pytest.approx(1.6 * 1.0 / 2.5)]
-    assert modulus.get_label().startswith("paper, sect. 5")
+    assert modulus.get_label().startswith("paper, sect. 3")
     (beta,) = stars(b)
     assert list(beta.get_xdata()) == [0.06, 0.28]
     assert list(beta.get_ydata()) == [0.7, 2.1]
@@ -145,11 +146,15 @@ def test_replicates_are_plotted_as_their_mean_and_standard_deviation(close_figur
     for rho, (_, y, _, yerr) in zip(RHOS, drawn(strength.axes[1])):
         assert y == pytest.approx([3 * value(rho, ratio) for ratio in RATIOS])
         assert yerr == pytest.approx([3 * std] * len(RATIOS))
-    # damage (b) n_b against sigma^pm; (d) against K_c^r, with bars both ways
+    # damage (b) n_b against sigma^pm, (c) without the bare contacts; (e)
+    # against K_c^r, with bars both ways
     for rho, (_, y, _, yerr) in zip(RHOS, drawn(damage.axes[1])):
         assert y == pytest.approx([0.1 * value(rho, ratio) for ratio in RATIOS])
         assert yerr == pytest.approx([0.1 * std] * len(RATIOS))
-    for rho, (x, _, xerr, _) in zip(RHOS, drawn(damage.axes[3])):
+    for rho, (_, y, _, yerr) in zip(RHOS, drawn(damage.axes[2])):
+        assert y == pytest.approx([0.5 * value(rho, ratio) for ratio in RATIOS])
+        assert yerr == pytest.approx([0.5 * std] * len(RATIOS))
+    for rho, (x, _, xerr, _) in zip(RHOS, drawn(damage.axes[4])):
         assert x == pytest.approx([4 * value(rho, ratio) for ratio in RATIOS])
         assert xerr == pytest.approx([4 * std] * len(RATIOS))
     # stiffness: per sample the mean modulus over its runs, then over the samples

@@ -3,8 +3,9 @@
 // are unique and described, an entry without a value for a run is left
 // out, an entry that no table describes is refused when the summary is
 // written, each program's summary holds exactly its table's entries, and
-// each table is the one of docs/reference/outputs.md (LEM_WRITE_DOCS=1
-// rewrites the page's tables from the code).  lem_fracture's table is
+// each table is the one of docs/reference/outputs.md (lem_fracture's: of
+// docs/reference/fracture-outputs.md; LEM_WRITE_DOCS=1 rewrites the pages'
+// tables from the code).  lem_fracture's table is
 // src/run/fracture_summary.cpp, with the fields of the registered break
 // rules and relaxation schemes after "relaxation".
 #include "lem/base/summary.hpp"
@@ -36,10 +37,16 @@ namespace {
 
 const std::string kEnd = "<!-- end -->";
 
-// The marker line above the generated table of `what` in outputs.md.
+// The marker line above the generated table of `what` in its page.
 std::string begin_marker(const std::string& what) {
   return "<!-- begin: summary table of " + what +
          "; LEM_WRITE_DOCS=1 build/tests/test_fracture_summary rewrites it -->";
+}
+
+// The page of docs/reference/ that shows the summary table of `what`:
+// lem_fracture's files have a page of their own, the others are on outputs.md.
+std::string page_of(const std::string& what) {
+  return what == "lem_fracture" ? "fracture-outputs.md" : "outputs.md";
 }
 
 std::string markdown_table(const std::vector<SummaryField>& fields) {
@@ -207,29 +214,32 @@ TEST(FractureSummary, SampleStiffnessConvergenceWriteTheirTables) {
   EXPECT_EQ(convergence_summary(SampleOptions{}).names(), names_of(convergence_summary_fields()));
 }
 
-TEST(FractureSummary, OutputsPageListsTheTables) {
-  const std::string path = std::string(LEM_SOURCE_DIR) + "/docs/reference/outputs.md";
-  std::ifstream in(path);
-  ASSERT_TRUE(in) << "cannot read " << path;
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  std::string page = buffer.str();
-  bool rewrite = std::getenv("LEM_WRITE_DOCS") != nullptr;
-  for (const ProgramSummary& p : page_tables()) {
-    const std::size_t begin = page.find(begin_marker(p.program));
-    ASSERT_NE(begin, std::string::npos)
-        << path << " has no generated summary table of " << p.program;
-    const std::size_t body = page.find('\n', begin) + 1;
-    const std::size_t end = page.find(kEnd, body);
-    ASSERT_NE(end, std::string::npos);
-    const std::string expected = markdown_table(p.fields);
-    if (rewrite) {
-      page.replace(body, end - body, expected);
-      continue;
+TEST(FractureSummary, OutputsPagesListTheTables) {
+  const bool rewrite = std::getenv("LEM_WRITE_DOCS") != nullptr;
+  for (const char* name : {"outputs.md", "fracture-outputs.md"}) {
+    const std::string path = std::string(LEM_SOURCE_DIR) + "/docs/reference/" + name;
+    std::ifstream in(path);
+    ASSERT_TRUE(in) << "cannot read " << path;
+    std::stringstream buffer;
+    buffer << in.rdbuf();
+    std::string page = buffer.str();
+    for (const ProgramSummary& p : page_tables()) {
+      if (page_of(p.program) != name) continue;
+      const std::size_t begin = page.find(begin_marker(p.program));
+      ASSERT_NE(begin, std::string::npos)
+          << path << " has no generated summary table of " << p.program;
+      const std::size_t body = page.find('\n', begin) + 1;
+      const std::size_t end = page.find(kEnd, body);
+      ASSERT_NE(end, std::string::npos);
+      const std::string expected = markdown_table(p.fields);
+      if (rewrite) {
+        page.replace(body, end - body, expected);
+        continue;
+      }
+      EXPECT_EQ(page.substr(body, end - body), expected)
+          << path << ": the summary table of " << p.program << " differs from the code: run "
+          << "LEM_WRITE_DOCS=1 test_fracture_summary to rewrite it";
     }
-    EXPECT_EQ(page.substr(body, end - body), expected)
-        << path << ": the summary table of " << p.program << " differs from the code: run "
-        << "LEM_WRITE_DOCS=1 test_fracture_summary to rewrite it";
+    if (rewrite) std::ofstream(path) << page;
   }
-  if (rewrite) std::ofstream(path) << page;
 }

@@ -40,7 +40,7 @@ def on_box_faces(coords, lo, hi):
     cells, while the random lattice keeps the bonds in the faces whole (the
     FCC block halves them), so the faces are a stiffer skin whose nodes read
     about 2.3 times the applied sigma_zz on the lateral faces of a cemented
-    sample (docs/paper.md; tests/system/test_elastic.cpp shows
+    sample (docs/paper-node-stresses.md; tests/system/test_elastic.cpp shows
     both cases on an FCC block)."""
     tolerance = FACE_TOLERANCE * float(np.max(hi - lo))
     return np.any((coords - lo < tolerance) | (hi - coords < tolerance), axis=1)
@@ -110,10 +110,13 @@ def eq10_abscissa(rho, k, rho_filled=RHO_FILLED):
     return rho * (2 * rho_filled - rho) / (1 - k * rho)
 
 
-def fit_eq10(rho, strength):
+def fit_eq10(rho, strength, rho_filled=RHO_FILLED, errors=False):
     """A and k of eq. 10, sigma_eff / sigma^pm = A rho (2 rho_f - rho) / (1 - k rho),
-    fitted to `strength` = sigma_eff / sigma^pm at matrix fractions `rho`;
-    None with fewer than two distinct fractions or when the fit fails."""
+    fitted to `strength` = sigma_eff / sigma^pm at matrix fractions `rho`,
+    rho_f = `rho_filled` (the paper's 0.28 by default); with `errors` also
+    the standard errors A_se and k_se of the fit (None with as many points
+    as parameters); None with fewer than two distinct fractions or when the
+    fit fails."""
     from scipy.optimize import OptimizeWarning, curve_fit
 
     rho = np.asarray(rho, dtype=float)
@@ -122,20 +125,49 @@ def fit_eq10(rho, strength):
         return None
 
     def model(r, a, k):
-        return a * r * (2 * RHO_FILLED - r) / (1 - k * r)
+        return a * r * (2 * rho_filled - r) / (1 - k * r)
     try:
         with warnings.catch_warnings():
             # as many points as parameters leave no covariance, which is not used
             warnings.simplefilter("ignore", OptimizeWarning)
             # k < 1 / max(rho) keeps the denominator positive over the data
-            (a, k), _ = curve_fit(model, rho, strength, p0=(0.3, 2.5),
-                                  bounds=([0, -20], [100, 0.99 / rho.max()]))
+            (a, k), covariance = curve_fit(model, rho, strength, p0=(0.3, 2.5),
+                                           bounds=([0, -20], [100, 0.99 / rho.max()]))
     except (RuntimeError, ValueError):
         return None
     residual = strength - model(rho, a, k)
-    return {"A": float(a), "k": float(k), "rho_filled": RHO_FILLED,
-            "rms_relative_residual": float(np.sqrt(np.mean((residual / strength) ** 2))),
-            "points": int(len(rho))}
+    fit = {"A": float(a), "k": float(k), "rho_filled": rho_filled,
+           "rms_relative_residual": float(np.sqrt(np.mean((residual / strength) ** 2))),
+           "points": int(len(rho))}
+    if errors:
+        se = np.sqrt(np.diag(covariance)) if len(rho) > 2 else [None, None]
+        fit.update(A_se=None if se[0] is None else float(se[0]),
+                   k_se=None if se[1] is None else float(se[1]))
+    return fit
+
+
+def eq10_residuals(rho, strength, fit):
+    """{rho^m: mean relative residual} of `strength` (sigma_eff / sigma^pm at
+    `rho`) from the eq. 10 of `fit`: negative below the line."""
+    rho = np.asarray(rho, dtype=float)
+    strength = np.asarray(strength, dtype=float)
+    line = fit["A"] * eq10_abscissa(rho, fit["k"], fit["rho_filled"])
+    return {float(r): float(np.mean(strength[rho == r] / line[rho == r] - 1))
+            for r in sorted(set(rho))}
+
+
+def crossing(x, y, level):
+    """The abscissa where the series y(x) (sorted by x) first reaches `level`,
+    linear between the grid points on either side; None if it never does,
+    x[0] if it starts there."""
+    pairs = sorted(zip(x, y))
+    for i, (xi, yi) in enumerate(pairs):
+        if yi >= level:
+            if i == 0:
+                return float(xi)
+            x0, y0 = pairs[i - 1]
+            return float(x0 + (level - y0) / (yi - y0) * (xi - x0))
+    return None
 
 
 def k_c_r_eq14(e_eff_over_e_unit, sigma_pm_ratio, phases):
@@ -146,6 +178,16 @@ def k_c_r_eq14(e_eff_over_e_unit, sigma_pm_ratio, phases):
 def eq14_frontier(e_eff_over_e_unit, phases, k_c_r=K_DAMAGE_LIMIT):
     """sigma^pm / sigma^p at which K_c^r of eq. 14 equals `k_c_r`."""
     return k_c_r ** 2 * phases["E_pm"] / phases["E_p"] / e_eff_over_e_unit
+
+
+def converged_modulus(rho, moduli):
+    """E_eff/E^[p] at L_n -> 0 at matrix fraction `rho`: `moduli` {rho^m:
+    value} where measured, linear between two measured fractions, None
+    outside their range (no extrapolation in rho^m)."""
+    known = sorted(moduli)
+    if not known or rho < known[0] - 1e-9 or rho > known[-1] + 1e-9:
+        return None
+    return float(np.interp(rho, known, [moduli[r] for r in known]))
 
 
 def share_without_bare_contacts(broken_p, broken, broken_pp):

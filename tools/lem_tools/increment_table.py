@@ -1,6 +1,5 @@
 """How much the load increment matters: the rows of studies that differ only
-in -fracture_increment, side by side (docs/model/fracture.md, "The load
-increment").
+in -fracture_increment, side by side (docs/model/fracture-increment.md).
 
 Reads the data folders (docs/data/<study>/) of studies whose physics is the
 same but for `fracture.fracture_increment`, and compares every run with the
@@ -8,8 +7,9 @@ run of the same sample (pack seed, lattice seed, rho^m, sigma^pm) at the
 reference increment (the paper's 3e-4 a, or --reference); a point with
 no run at the reference increment is left out and named.  Prints a table
 per rho^m with, for each increment, the mean and standard deviation over
-the samples of sigma_eff, the strain at the peak, n_b after failure and the
-broken bonds per phase, and the mean change from the reference with the
+the samples of sigma_eff, the strain at the peak, n_b after failure (both
+ways: as the paper counts it and without the bare contacts) and the broken
+bonds per phase, and the mean change from the reference with the
 scatter between samples at the reference beside it; writes in OUT_DIR:
   increment.csv    one row per run (increment factor, sample, values)
   increment.json   the table's numbers
@@ -37,6 +37,7 @@ QUANTITIES = (  # (row column, label, scale for the table)
     ("sigma_eff_over_sigma_unit", "σ_eff/σ^[p]", 1.0),
     ("strain_at_peak", "ε at peak (10⁻³)", 1e3),
     ("n_b", "n_b after failure", 1.0),
+    ("n_b_without_bare_contacts", "n_b without the bare contacts", 1.0),
     ("broken_p", "broken p", 1.0),
     ("broken_m", "broken m", 1.0),
     ("broken_pp", "broken pp", 1.0),

@@ -19,11 +19,17 @@ anything:
   fig12.png  eq. 10: (a) against the paper's abscissa (k = 2.5) with its
              A = 0.3 and the slope 0.2 of its rho^m = 0.06 points; (b)
              against ours (the fitted k)
-  fig13.png  n_b against strain
-  fig14.png  n_b after failure against sigma^pm; the onset of eq. 13
-             (0.4) and the inflection (sigma^pm = sigma^p) marked
-  fig15.png  grey map of n_b with eq. 13 (K_c^r = 0.4) and eq. 14 (0.7)
-  fig16.png  n_b against K_c^r of eq. 14 (0.7 marked) and of eq. 13 (0.4)
+  fig13.png  n_b against strain (the paper's n_b, bare contacts counted;
+             n_b without them at the runs' ends as open circles)
+  fig14.png  n_b after failure against sigma^pm, (a) as the paper counts
+             it, (b) without the bare contacts; the onset of eq. 13 (0.4)
+             and the inflection (sigma^pm = sigma^p) marked
+  fig15.png  grey maps of n_b both ways with eq. 13 (K_c^r = 0.4) and
+             eq. 14 (0.7), the latter with the samples' E_eff and with
+             E_eff at L_n -> 0 (paper.CONVERGED_MODULI, the paper's phases)
+  fig16.png  n_b both ways (rows) against K_c^r of eq. 14 with the
+             samples' E_eff, of eq. 14 with E_eff at L_n -> 0, and of
+             eq. 13 (columns); 0.7 and 0.4 marked
 A grid point with several runs (other packings or lattice seeds) is drawn
 as their mean with +-1 standard deviation as error bars; every figure says
 its resolution in its subtitle.  Default OUT_DIR: docs/figures/<study name
@@ -43,9 +49,10 @@ from .plotting import paper_mark, plt, save_figure
 from .results import STUDY_COLUMNS
 from .study_combine import physics
 from .study_data import DataFolder, curve_of, open_data_folder
-from .study_plots import (COLUMNS, E_P, RATIO, RHO, beta_panel, damage_curve_picks,
-                          damage_curves, damage_map_panel, damage_panel, finish, modulus_panel,
-                          point_colors, replicated, scaling_panel, strength_panel, values)
+from .study_plots import (COLUMNS, E_P, N_B_LABELS, N_B_NAMES, RATIO, RHO, beta_panel,
+                          damage_curve_picks, damage_curves, damage_map_panel, damage_panel,
+                          finish, modulus_panel, point_colors, replicated, scaling_panel,
+                          strength_panel, values, with_converged_k)
 from .study_table import write_table
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -292,39 +299,56 @@ def fig13(points, kept, res):
 
 
 def fig14(points, res):
-    fig, ax = single(r"damage after failure against $\sigma^{pm}$ (paper fig. 14)")
-    damage_panel(ax, points)
-    ax.axvline(K_WEAKEST_LINK, ls="--", color="tab:red",
-               label=r"paper: onset at $\sigma^{pm}/\sigma^p \approx$ %.1f (eq. 13)"
-               % K_WEAKEST_LINK)
-    ax.axvline(1.0, ls=":", color="0.3",
-               label=r"paper: inflection at $\sigma^{pm} \approx \sigma^p$")
-    ax.set_xlabel(RATIO)
-    ax.legend(fontsize=8)
+    fig, axes = plt.subplots(1, 2, figsize=(12, 5.4))
+    fig.suptitle(r"damage after failure against $\sigma^{pm}$ (paper fig. 14)")
+    for ax, quantity, letter in zip(axes, N_B_LABELS, "ab"):
+        damage_panel(ax, points, quantity=quantity)
+        ax.axvline(K_WEAKEST_LINK, ls="--", color="tab:red",
+                   label=r"paper: onset at $\sigma^{pm}/\sigma^p \approx$ %.1f (eq. 13)"
+                   % K_WEAKEST_LINK)
+        ax.axvline(1.0, ls=":", color="0.3",
+                   label=r"paper: inflection at $\sigma^{pm} \approx \sigma^p$")
+        ax.set_xlabel(RATIO)
+        ax.set_title("(%s) %s" % (letter, N_B_NAMES[quantity]))
+        ax.legend(fontsize=8)
     return finish(fig, res)
 
 
 def fig15(points, samples, phases, res):
-    fig, ax = single("")
-    damage_map_panel(fig, ax, points, samples, phases)
-    ax.set_title(r"$n_b$ over the grid (paper fig. 15)")
+    fig, axes = plt.subplots(1, 2, figsize=(14, 5.6))
+    for ax, quantity, letter in zip(axes, N_B_LABELS, "ab"):
+        damage_map_panel(fig, ax, points, samples, phases, quantity)
+        ax.set_title(r"(%s) %s over the grid (paper fig. 15)" % (letter, N_B_NAMES[quantity]))
     return finish(fig, res)
 
 
-def fig16(points, res):
-    fig, (a, b) = plt.subplots(1, 2, figsize=(12, 5.4))
-    damage_panel(a, points, "K_c_r_eq14")
-    a.axvline(K_DAMAGE_LIMIT, ls=":", color="tab:blue",
-              label="paper: no damage below $K_c^r$ = %.1f (eq. 14)" % K_DAMAGE_LIMIT)
-    a.set_xlabel(r"$K_c^r$ of eq. 14 (reference medium $E_{\rm eff}$)")
-    a.set_title(r"(a) damage against $K_c^r$ of eq. 14 (paper fig. 16)")
-    a.legend(fontsize=8)
-    damage_panel(b, points)
-    b.axvline(K_WEAKEST_LINK, ls="--", color="tab:red",
-              label="paper: first damage at $K_c^r$ = %.1f (eq. 13)" % K_WEAKEST_LINK)
-    b.set_xlabel(r"$K_c^r$ of eq. 13 $= \sigma^{pm}/\sigma^p$")
-    b.set_title(r"(b) damage against $K_c^r$ of eq. 13")
-    b.legend(fontsize=8)
+def fig16(points, phases, res):
+    """n_b both ways (rows) against K_c^r of eq. 14 with the samples' E_eff,
+    of eq. 14 with E_eff at L_n -> 0 (the paper's phases only) and of eq. 13
+    (columns)."""
+    points = with_converged_k(points, phases)
+    converged = any(p["K_c_r_eq14_converged"] is not None for p in points)
+    fig, axes = plt.subplots(2, 3, figsize=(17, 10))
+    abscissae = (("K_c_r_eq14", r"$K_c^r$ of eq. 14, the samples' $E_{\rm eff}$",
+                  K_DAMAGE_LIMIT, ":", "tab:blue", "no damage below"),
+                 ("K_c_r_eq14_converged", r"$K_c^r$ of eq. 14, $E_{\rm eff}$ at $L_n \to 0$ "
+                  r"(516 p)", K_DAMAGE_LIMIT, ":", "tab:blue", "no damage below"),
+                 ("sigma_pm_ratio", r"$K_c^r$ of eq. 13 $= \sigma^{pm}/\sigma^p$",
+                  K_WEAKEST_LINK, "--", "tab:red", "first damage at"))
+    for row, quantity in zip(axes, N_B_LABELS):
+        for ax, (column, label, limit, style, color, says) in zip(row, abscissae):
+            letter = "abcdef"[list(axes.flat).index(ax)]
+            ax.set_title(r"(%s) %s" % (letter, N_B_NAMES[quantity]), fontsize=10)
+            ax.set_xlabel(label)
+            if column == "K_c_r_eq14_converged" and not converged:
+                ax.text(0.5, 0.5, "no modulus at $L_n \\to 0$\nfor these phases",
+                        transform=ax.transAxes, ha="center", va="center")
+                continue
+            damage_panel(ax, points, column, quantity)
+            ax.axvline(limit, ls=style, color=color, label="paper: %s $K_c^r$ = %.1f (eq. %d)"
+                       % (says, limit, 14 if limit == K_DAMAGE_LIMIT else 13))
+            ax.legend(fontsize=7)
+    fig.suptitle("particle damage against the relative toughness (paper fig. 16)")
     return finish(fig, res)
 
 
@@ -340,7 +364,7 @@ def figures(folders):
              "fig08": fig08(points, samples, kept, phases, res), "fig09": fig09(points, res),
              "fig11": fig11(rows, kept, res), "fig12": fig12(points, fit, res),
              "fig13": fig13(points, kept, res), "fig14": fig14(points, res),
-             "fig15": fig15(points, samples, phases, res), "fig16": fig16(points, res)}
+             "fig15": fig15(points, samples, phases, res), "fig16": fig16(points, phases, res)}
     record = {"folders": list(folders), "eq10": fit, "runs": len(rows), "points": len(points),
               "beta_by_rho_m": {"%.4f" % p["rho_m"]: p["beta"] for p in samples},
               "interface_ratio_by_rho_m": {

@@ -10,19 +10,29 @@ import textwrap
 
 import numpy as np
 
-from .analysis import (K_DAMAGE_LIMIT, K_WEAKEST_LINK, RHO_FILLED, eq10_abscissa,
-                       eq14_frontier, group_by_rho)
-from .paper import paper_values
+from .analysis import (K_DAMAGE_LIMIT, K_WEAKEST_LINK, RHO_FILLED, converged_modulus,
+                       eq10_abscissa, eq14_frontier, group_by_rho, k_c_r_eq14)
+from .paper import CONVERGED_MODULI, paper_values
 from .plotting import paper_mark, plt, save_figure
 
 DPI = 100
 # The columns of results.csv the figures show, averaged over the replicates.
 COLUMNS = ("E_eff_over_E_unit", "sigma_eff_over_sigma_unit", "sigma_eff_over_sigma_pm", "n_b",
-           "K_c_r_eq14")
+           "n_b_without_bare_contacts", "K_c_r_eq14")
 RHO = r"matrix fraction $\rho^m$"
 RATIO = r"interface strength $\sigma^{pm} / \sigma^p$"
-N_B = r"$n_b$ after failure (share of broken bonds in the particles)"
 E_P = r" $E^{[p]}$"
+# n_b both ways: the paper's definition (the share of the particles in every
+# broken bond, the bare contacts that open at the first step included) and
+# without the bare contacts (sigma^pp = 0) in the denominator.
+N_B_NAMES = {"n_b": r"$n_b$, bare contacts counted (the paper's definition)",
+             "n_b_without_bare_contacts": r"$n_b$ without the bare contacts"}
+N_B = r"$n_b$ after failure, bare contacts counted (the paper's definition)"
+N_B_WITHOUT = r"$n_b$ after failure without the bare contacts"
+N_B_LABELS = {"n_b": N_B, "n_b_without_bare_contacts": N_B_WITHOUT}
+# The paper's phases (sect. 2.3): the moduli at L_n -> 0 (paper.CONVERGED_MODULI)
+# were measured with them, and are used only for samples of the same phases.
+PAPER_PHASES = {"E_p": 3.0, "E_m": 1.0, "E_pm": 1.0}
 
 
 def rho_colors(groups):
@@ -168,8 +178,12 @@ def damage_curves(ax, points, curves, colors):
     """Panel (a): n_b against the strain of damage_curve_picks, one colour
     per rho^m, dashed with markers and on top at the lowest sigma^pm (its
     n_b stays near 0, where the others start); with replicates the first
-    seeds' run thick and the others thin."""
+    seeds' run thick and the others thin.  The curves count the bare
+    contacts (the paper's n_b); n_b without them, known at the end of each
+    point's runs, is an open circle on the right axis at the end of the
+    first run's curve."""
     low = min(p["sigma_pm_ratio"] for p in points)
+    ends = []
     for p in damage_curve_picks(points):
         style = dict(ls="--", marker="v", markevery=0.1, zorder=3) \
             if p["sigma_pm_ratio"] == low else dict(ls="-")
@@ -179,11 +193,20 @@ def damage_curves(ax, points, curves, colors):
                     lw=2 if i == 0 else 0.8, alpha=1 if i == 0 else 0.6, **style,
                     label=None if i else r"$\rho^m$ = %.2f, $\sigma^{pm}/\sigma^p$ = %.2f"
                     % (p["rho_m"], p["sigma_pm_ratio"]))
+        without = p.get("n_b_without_bare_contacts")
+        if without is not None and np.isfinite(without):
+            ends.append((curves[p["runs"][0]]["strain"][-1] * 1e3, without, colors[p["rho_m"]]))
     ax.set_xlabel(r"strain $\varepsilon_{zz}$ ($10^{-3}$)")
-    ax.set_ylabel(r"$n_b$ (share of broken bonds in the particles)")
+    ax.set_ylabel(r"$n_b$, bare contacts counted (the paper's definition)")
     ax.set_title("(a) particle damage against strain (paper fig. 13)")
     ax.legend(fontsize=8, title="thick: first seeds, thin: the other samples"
-              if replicated(points) else None, title_fontsize=8)
+              if replicated(points) else None, title_fontsize=8, loc="upper left")
+    if ends:
+        right = ax.twinx()
+        for x, y, color in ends:
+            right.plot([x], [y], "o", mfc="white", mec=color, mew=1.5, ms=8)
+        right.set_ylim(bottom=0, top=1.1 * max(1e-3, max(y for _, y, _ in ends)))
+        right.set_ylabel(r"open circles: $n_b$ without the bare contacts, end of the runs")
 
 
 def point_colors(points):
@@ -192,36 +215,70 @@ def point_colors(points):
     return dict(zip(groups, rho_colors(groups)))
 
 
-def damage_panel(ax, points, column="sigma_pm_ratio"):
-    """n_b after failure against sigma^pm (fig. 14) or, with `column`
-    K_c_r_eq14, against K_c^r of eq. 14 (fig. 16), a series per rho^m."""
+def damage_panel(ax, points, column="sigma_pm_ratio", quantity="n_b"):
+    """`quantity` (n_b, or n_b_without_bare_contacts) after failure against
+    sigma^pm (fig. 14) or, with `column` K_c_r_eq14, against K_c^r of eq. 14
+    (fig. 16), a series per rho^m; a `column` of None values for a point
+    leaves it out."""
     colors = point_colors(points)
     against_ratio = column == "sigma_pm_ratio"
     for rho, ps in group_by_rho(points).items():
-        values(ax, [p[column] for p in ps], ps, "n_b", "o-" if against_ratio else "o",
-               xcolumn=None if against_ratio else column, color=colors[rho],
+        ps = [p for p in ps if p.get(column) is not None]
+        if not ps:
+            continue
+        has_std = column in ps[0]["std"]
+        values(ax, [p[column] for p in ps], ps, quantity, "o-" if against_ratio else "o",
+               xcolumn=None if against_ratio or not has_std else column, color=colors[rho],
                label=r"$\rho^m$ = %.2f" % rho)
-    ax.set_ylabel(N_B)
+    ax.set_ylabel(N_B_LABELS[quantity])
     ax.legend(fontsize=8)
 
 
-def damage_map_panel(fig, c, points, samples, phases):
-    """Grey map of n_b over (rho^m, sigma^pm) with the frontiers of eqs. 13
-    and 14 (fig. 15); `samples` as analysis.sample_means gives them."""
+def converged_moduli(phases):
+    """paper.CONVERGED_MODULI for samples of the paper's phases, else None."""
+    if all(abs(phases.get(k, float("nan")) - v) < 1e-12 for k, v in PAPER_PHASES.items()):
+        return CONVERGED_MODULI
+    return None
+
+
+def with_converged_k(points, phases):
+    """The points with K_c_r_eq14_converged: K_c^r of eq. 14 with E_eff at
+    L_n -> 0 (None where no converged modulus is known at that rho^m)."""
+    moduli = converged_moduli(phases) or {}
+    out = []
+    for p in points:
+        e = converged_modulus(p["rho_m"], moduli)
+        out.append(dict(p, K_c_r_eq14_converged=None if e is None else
+                        k_c_r_eq14(e, p["sigma_pm_ratio"], phases)))
+    return out
+
+
+def damage_map_panel(fig, c, points, samples, phases, quantity="n_b"):
+    """Grey map of `quantity` over (rho^m, sigma^pm) with the frontiers of
+    eqs. 13 and 14 (fig. 15), eq. 14's with the samples' E_eff and, for the
+    paper's phases, with E_eff at L_n -> 0; `samples` as
+    analysis.sample_means gives them."""
     rhos = sorted({p["rho_m"] for p in points})
     ratios = sorted({p["sigma_pm_ratio"] for p in points})
     grid = np.full((len(ratios), len(rhos)), np.nan)
     for p in points:
-        grid[ratios.index(p["sigma_pm_ratio"]), rhos.index(p["rho_m"])] = p["n_b"]
+        grid[ratios.index(p["sigma_pm_ratio"]), rhos.index(p["rho_m"])] = p[quantity]
     greys = plt.get_cmap("Greys").copy()
     greys.set_bad("mistyrose")  # a point without a run, unlike n_b = 0 (white)
     shown = c.pcolormesh(edges(rhos), edges(ratios), grid, cmap=greys, shading="flat", vmin=0)
-    fig.colorbar(shown, ax=c, label=r"$n_b$ after failure")
+    fig.colorbar(shown, ax=c, label=N_B_LABELS[quantity])
     c.axhline(K_WEAKEST_LINK, ls="--", color="tab:red", label="eq. 13, $K_c^r$ = %.1f"
               % K_WEAKEST_LINK)
     e_of_rho = {p["rho_m"]: p["E_eff_over_E_unit"] for p in samples}
     c.plot(rhos, [eq14_frontier(e_of_rho[rho], phases) for rho in rhos], ":", color="tab:blue",
-           lw=2, label="eq. 14, $K_c^r$ = %.1f" % K_DAMAGE_LIMIT)
+           lw=2, label="eq. 14, $K_c^r$ = %.1f, the samples' $E_{\\rm eff}$" % K_DAMAGE_LIMIT)
+    moduli = converged_moduli(phases)
+    known = [(rho, converged_modulus(rho, moduli or {})) for rho in rhos]
+    known = [(rho, e) for rho, e in known if e is not None]
+    if known:
+        c.plot([rho for rho, _ in known], [eq14_frontier(e, phases) for _, e in known], "-.",
+               color="tab:cyan", lw=2, label="eq. 14, $K_c^r$ = %.1f, $E_{\\rm eff}$ at "
+               "$L_n \\to 0$ (516 p)" % K_DAMAGE_LIMIT)
     c.set_ylim(edges(ratios)[0], edges(ratios)[-1])
     c.set_xlabel(RHO)
     c.set_ylabel(RATIO)
@@ -232,20 +289,24 @@ def damage_map_panel(fig, c, points, samples, phases):
 def damage_figure(points, samples, curves, phases, resolution):
     """`curves`: {run id: curve (results.read_curve)} of the runs of
     damage_curve_picks(points); `samples`: analysis.sample_means (the
-    moduli of eq. 14's frontier)."""
-    fig, axes = plt.subplots(2, 2, figsize=(12, 10))
-    (a, b), (c, d) = axes
+    moduli of eq. 14's frontier).  n_b both ways: (b), (e) as the paper
+    defines it, (c), (f) without the bare contacts."""
+    fig, axes = plt.subplots(2, 3, figsize=(18, 10))
+    (a, b, c), (d, e, f) = axes
     damage_curves(a, points, curves, point_colors(points))
-    damage_panel(b, points)
-    b.set_xlabel(RATIO)
-    b.set_title(r"(b) damage against $\sigma^{pm}$ (paper fig. 14)")
-    damage_map_panel(fig, c, points, samples, phases)
-    damage_panel(d, points, "K_c_r_eq14")
-    d.axvline(K_DAMAGE_LIMIT, ls=":", color="tab:blue", label="eq. 14, $K_c^r$ = %.1f"
-              % K_DAMAGE_LIMIT)
-    d.set_xlabel(r"$K_c^r$ of eq. 14")
-    d.set_title(r"(d) damage against $K_c^r$ (paper fig. 16)")
-    d.legend(fontsize=8)
+    for ax, quantity, letter in ((b, "n_b", "b"), (c, "n_b_without_bare_contacts", "c")):
+        damage_panel(ax, points, quantity=quantity)
+        ax.set_xlabel(RATIO)
+        ax.set_title(r"(%s) damage against $\sigma^{pm}$ (paper fig. 14)" % letter)
+    damage_map_panel(fig, d, points, samples, phases)
+    d.set_title(r"(d) $n_b$ over the grid (paper fig. 15)")
+    for ax, quantity, letter in ((e, "n_b", "e"), (f, "n_b_without_bare_contacts", "f")):
+        damage_panel(ax, points, "K_c_r_eq14", quantity)
+        ax.axvline(K_DAMAGE_LIMIT, ls=":", color="tab:blue", label="eq. 14, $K_c^r$ = %.1f"
+                   % K_DAMAGE_LIMIT)
+        ax.set_xlabel(r"$K_c^r$ of eq. 14 (the samples' $E_{\rm eff}$)")
+        ax.set_title(r"(%s) damage against $K_c^r$ (paper fig. 16)" % letter)
+        ax.legend(fontsize=8)
     return finish(fig, resolution)
 
 

@@ -14,7 +14,7 @@ peak, the share of the ruptures whose force was within a margin m of their
 threshold (force <= (1 + m) threshold) and the share of the batches (the
 ruptures of one relaxation cycle) that hold such a rupture: the batches
 that a local relaxation certified by a margin m must leave to a global
-solve (docs/model/fracture.md, "Relaxation schemes").
+solve (docs/model/fracture-solver.md, "Relaxation schemes").
 
 With --floor it also prints, stage by stage, the least work that the rules
 of the protocol allow: every load step with ruptures ends on a global solve

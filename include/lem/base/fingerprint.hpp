@@ -1,5 +1,5 @@
 // What identifies a result, a checkpoint and a calibration: one rule, one
-// place (docs/reference/outputs.md, "manifest.txt and the commit").
+// place (docs/reference/result-folder.md, "manifest.txt and the commit").
 //
 // A fingerprint is text, one "key=value" line per thing the product depends
 // on.  The rule: every option the program read, and every input datum,

@@ -4,7 +4,7 @@
 // bond operator (-solver_operator bonds) beside the assembled K: product and
 // CG iteration, then the multigrid cycle level by level in double and single
 // precision (-solver_cycle_precision).  It prints figures, not a verdict
-// (docs/benchmarks.md).
+// (docs/benchmarks-solver.md).
 //
 // Solves measured:
 //   first  - ElasticSystem::solve(d) as lem_tension does it: KSPSetUp (PC built

@@ -9,7 +9,7 @@
 // A force carries the solver's error, which differs with the rank count.  A
 // bond whose force is within a band of that error around its level
 // (threshold or floor) is "in doubt": the protocol decides it on a tighter
-// re-solve instead (docs/model/fracture.md, "Near-ties and the rank count").
+// re-solve instead (docs/model/fracture-decisions.md, "Near-ties and the rank count").
 #pragma once
 
 #include "lem/system/distributed_lattice.hpp"

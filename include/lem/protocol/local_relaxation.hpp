@@ -18,7 +18,7 @@
 // stops using patches (patch_disabled_step) and relaxes globally.
 //
 // Experimental: on the shipped cemented samples patch errors at R = 5 a
-// reach 5-18 % of a threshold (docs/model/fracture.md), so the default margin is
+// reach 5-18 % of a threshold (docs/model/fracture-solver.md), so the default margin is
 // exceeded early; it is not the default scheme.
 #pragma once
 

@@ -11,8 +11,8 @@
 //               calibration of other values is refused, naming the line;
 //   summary     fields of lem_fracture's summary (name, unit, meaning), with
 //               the values of the object's report() (0 in runs of another
-//               rule or scheme), listed in docs/reference/outputs.md for the
-//               built-in ones.
+//               rule or scheme), listed in
+//               docs/reference/fracture-outputs.md for the built-in ones.
 // The run names none of it: a new rule or scheme is its class and its entry.
 #pragma once
 

@@ -1,9 +1,9 @@
 // The entries of lem_fracture's summary.json and summary.csv, in their
 // order, each declared once with its unit, its meaning and how its value is
 // taken from the run's record (those of the break rules and relaxation
-// schemes from their registry entries).  docs/reference/outputs.md lists
-// the table (test_fracture_summary checks both agree).  The provenance
-// entries that follow are common to every program.
+// schemes from their registry entries).  docs/reference/fracture-outputs.md
+// lists the table (test_fracture_summary checks both agree).  The
+// provenance entries that follow are common to every program.
 #pragma once
 
 #include "lem/base/driver.hpp"

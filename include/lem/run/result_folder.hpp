@@ -1,5 +1,5 @@
-// The life of a result folder (docs/reference/outputs.md, "manifest.txt and
-// the commit"), in one place for the programs that write one:
+// The life of a result folder (docs/reference/result-folder.md, "manifest.txt
+// and the commit"), in one place for the programs that write one:
 //
 //   open      lock the folder; finish a replacement stopped halfway; decide
 //             whether the finished result of this very run is already there
