@@ -55,15 +55,46 @@ std::string text(const Summary::Value& v, bool json) {
 
 }  // namespace
 
-const std::vector<SummaryField>& provenance_summary_fields() {
-  static const std::vector<SummaryField> fields = {
-      {"program", "", "the program that wrote it"},
-      {"version", "", "its version"},
-      {"git_hash", "", "the commit it was built from (`-dirty`: with uncommitted changes)"},
-      {"start_time", "", "when the run started (UTC, `YYYY-MM-DDTHH:MM:SSZ`)"},
-      {"mpi_ranks", "", "MPI ranks (only here when the program's table has no such entry)"},
-      {"options", "", "every option in effect, given or not, one `-name value` per word"},
+namespace {
+
+// What add_provenance() writes from: the provenance, and whether the
+// program's own table already has an entry mpi_ranks.
+struct ProvenanceRecord {
+  const Provenance& provenance;
+  bool has_ranks;
+};
+
+const SummaryTable<ProvenanceRecord>& provenance_table() {
+  static const SummaryTable<ProvenanceRecord> table = {
+      {"program", "", "the program that wrote it",
+       [](const ProvenanceRecord& r) { return r.provenance.program; }},
+      {"version", "", "its version",
+       [](const ProvenanceRecord& r) { return r.provenance.version; }},
+      {"git_hash", "", "the commit it was built from (`-dirty`: with uncommitted changes)",
+       [](const ProvenanceRecord& r) { return r.provenance.git_hash; }},
+      {"start_time", "", "when the run started (UTC, `YYYY-MM-DDTHH:MM:SSZ`)",
+       [](const ProvenanceRecord& r) { return r.provenance.start_time; }},
+      {"mpi_ranks", "", "MPI ranks (only here when the program's table has no such entry)",
+       [](const ProvenanceRecord& r) -> std::optional<Summary::Value> {
+         if (r.has_ranks) return std::nullopt;
+         return summary_count(r.provenance.ranks);
+       }},
+      {"options", "", "every option in effect, given or not, one `-name value` per word",
+       [](const ProvenanceRecord& r) {
+         std::vector<std::string> options;
+         std::istringstream lines(r.provenance.options);
+         for (std::string line; std::getline(lines, line);)
+           if (!line.empty()) options.push_back(line);
+         return options;
+       }},
   };
+  return table;
+}
+
+}  // namespace
+
+const std::vector<SummaryField>& provenance_summary_fields() {
+  static const std::vector<SummaryField> fields = described_fields(provenance_table());
   return fields;
 }
 
@@ -71,42 +102,14 @@ void Summary::add(const std::string& name, Value value, const std::string& unit)
   entries_.push_back({name, unit, std::move(value)});
 }
 
-void Summary::Described::put(const std::string& name, Value value) {
-  skip(name);
-  summary_.entries_.push_back({name, fields_[next_ - 1].unit, std::move(value), true});
-}
-
-void Summary::Described::skip(const std::string& name) {
-  if (next_ >= fields_.size() || name != fields_[next_].name)
-    throw std::logic_error("summary entry '" + name + "' is not the next of its table (" +
-                           (next_ < fields_.size() ? fields_[next_].name : "none left") + ")");
-  ++next_;
-}
-
-void Summary::Described::done() const {
-  if (next_ != fields_.size())
-    throw std::logic_error(std::string("summary entry '") + fields_[next_].name +
-                           "' of its table was not written");
+void Summary::add_described(const char* name, const char* unit, Value value) {
+  entries_.push_back({name, unit, std::move(value), true});
 }
 
 void Summary::add_provenance(const Provenance& p) {
-  Described d(*this, provenance_summary_fields());
-  d.put("program", p.program);
-  d.put("version", p.version);
-  d.put("git_hash", p.git_hash);
-  d.put("start_time", p.start_time);
   const bool has_ranks = std::any_of(entries_.begin(), entries_.end(),
                                      [](const Entry& e) { return e.name == "mpi_ranks"; });
-  if (has_ranks)
-    d.skip("mpi_ranks");
-  else
-    d.put("mpi_ranks", static_cast<long long>(p.ranks));
-  std::vector<std::string> options;
-  std::istringstream lines(p.options);
-  for (std::string line; std::getline(lines, line);)
-    if (!line.empty()) options.push_back(line);
-  d.put("options", options);
-  d.done();
+  add_from(provenance_table(), ProvenanceRecord{p, has_ranks});
 }
 
 std::string Summary::json() const {

@@ -5,92 +5,106 @@
 
 namespace lem {
 
-const std::vector<SummaryField>& sample_summary_fields() {
+namespace {
+
+// What lem_sample's summary is written from.
+struct SampleRecord {
+  const CementedSampleStats& stats;
+  const CementedSampleSpec& spec;
+  const std::string& file;
+  const PeakMemory& memory;
+};
+
+using R = SampleRecord;
+
+// The bonds of one phase.
+std::function<std::optional<Summary::Value>(const R&)> bonds_of(Phase phase) {
+  return [phase](const R& r) {
+    return summary_count(r.stats.bonds_per_phase[static_cast<int>(phase)]);
+  };
+}
+
+const SummaryTable<R>& sample_table() {
   // The statistics are defined in docs/model/cemented-samples.md, "What a
   // sample reports".
-  static const std::vector<SummaryField> fields = {
-      {"sample_file", "", "the sample file written"},
-      {"particles", "", "spheres of the sample, those reaching in included"},
-      {"sample_particles", "", "sphere centres in the cube (`-sample_particles`)"},
-      {"side", "d_min", "the cube's side"},
-      {"nodes", "", "nodes of the lattice"},
-      {"bonds", "", "bonds of the lattice"},
-      {"nodes_per_particle", "", "nodes / centres in the cube"},
-      {"rho_p_geometric", "",
-       "ρ^p: the spheres' exact volume clipped to the cube, over its volume"},
-      {"rho_p", "", "ρ^p on the lattice: Voronoi volume of the particle nodes over the cube's"},
-      {"rho_m_requested", "", "ρ^m asked for (`-matrix_fraction`)"},
-      {"rho_m", "", "ρ^m on the lattice"},
-      {"rho_v", "", "ρ^v on the lattice"},
-      {"bonds_p", "", "particle bonds"},
-      {"bonds_m", "", "matrix bonds"},
-      {"bonds_v", "", "void bonds"},
-      {"bonds_pp", "", "particle–particle contact bonds"},
-      {"bonds_pm", "", "particle–matrix interface bonds"},
-      {"bonds_per_particle", "", "p bonds per particle (paper: ≈1550)"},
-      {"eligible_pairs", "", "pairs of particles near enough for a bridge"},
-      {"eligible_per_particle", "", "eligible bridge ends per particle"},
-      {"bridges", "", "bridges holding matrix"},
-      {"bridges_per_particle", "", "bridge ends holding matrix per particle"},
+  static const SummaryTable<R> table = {
+      {"sample_file", "", "the sample file written", [](const R& r) { return r.file; }},
+      {"particles", "", "spheres of the sample, those reaching in included",
+       [](const R& r) { return summary_count(r.stats.particles); }},
+      {"sample_particles", "", "sphere centres in the cube (`-sample_particles`)",
+       [](const R& r) { return summary_count(r.spec.sample_particles); }},
+      {"side", "d_min", "the cube's side", [](const R& r) { return r.stats.side; }},
+      {"nodes", "", "nodes of the lattice",
+       [](const R& r) { return summary_count(r.stats.nodes); }},
+      {"bonds", "", "bonds of the lattice",
+       [](const R& r) { return summary_count(r.stats.bonds); }},
+      {"nodes_per_particle", "", "nodes / centres in the cube",
+       [](const R& r) { return r.stats.nodes_per_particle; }},
+      {"rho_p_geometric", "", "ρ^p: the spheres' exact volume clipped to the cube, over its volume",
+       [](const R& r) { return r.stats.rho_p_geometric; }},
+      {"rho_p", "", "ρ^p on the lattice: Voronoi volume of the particle nodes over the cube's",
+       [](const R& r) { return r.stats.rho_p; }},
+      {"rho_m_requested", "", "ρ^m asked for (`-matrix_fraction`)",
+       [](const R& r) { return r.spec.bridges.matrix_fraction; }},
+      {"rho_m", "", "ρ^m on the lattice", [](const R& r) { return r.stats.rho_m; }},
+      {"rho_v", "", "ρ^v on the lattice", [](const R& r) { return r.stats.rho_v; }},
+      {"bonds_p", "", "particle bonds", bonds_of(Phase::p)},
+      {"bonds_m", "", "matrix bonds", bonds_of(Phase::m)},
+      {"bonds_v", "", "void bonds", bonds_of(Phase::v)},
+      {"bonds_pp", "", "particle–particle contact bonds", bonds_of(Phase::pp)},
+      {"bonds_pm", "", "particle–matrix interface bonds", bonds_of(Phase::pm)},
+      {"bonds_per_particle", "", "p bonds per particle (paper: ≈1550)",
+       [](const R& r) { return r.stats.bonds_per_particle; }},
+      {"eligible_pairs", "", "pairs of particles near enough for a bridge",
+       [](const R& r) { return summary_count(r.stats.eligible_pairs); }},
+      {"eligible_per_particle", "", "eligible bridge ends per particle",
+       [](const R& r) { return r.stats.eligible_per_particle; }},
+      {"bridges", "", "bridges holding matrix",
+       [](const R& r) { return summary_count(r.stats.bridges); }},
+      {"bridges_per_particle", "", "bridge ends holding matrix per particle",
+       [](const R& r) { return r.stats.bridges_per_particle; }},
       {"interface_ratio_Spm_Sp", "",
-       "S^pm/S^p: the share of the resolved particle surface covered by matrix"},
-      {"packing_seed", "", "`-pack_seed`"},
-      {"packing_particles", "", "spheres of the periodic packing"},
-      {"lattice_seed", "", "`-lattice_seed`"},
-      {"lattice_generator", "", "`serial` or `cells` (`-lattice_generator`)"},
-      {"matrix_max_gap", "d_min", "the largest gap a bridge spans"},
-      {"void_bonds", "", "the rule that makes void bonds (`any_end` or `both_ends`)"},
-      {"seconds_packing", "s", "the packing"},
-      {"seconds_lattice", "s", "the lattice"},
-      {"seconds_voronoi", "s", "the Voronoi volumes"},
-      {"seconds_phases", "s", "the matrix and the phases"},
-      {"peak_memory_mb", "MB", "the largest peak resident memory of a rank"},
-      {"peak_memory_mean_mb", "MB", "the mean over the ranks of their peak resident memory"},
+       "S^pm/S^p: the share of the resolved particle surface covered by matrix",
+       [](const R& r) { return r.stats.interface_ratio; }},
+      {"packing_seed", "", "`-pack_seed`",
+       [](const R& r) { return summary_count(static_cast<std::int64_t>(r.spec.packing.seed)); }},
+      {"packing_particles", "", "spheres of the periodic packing",
+       [](const R& r) { return summary_count(r.spec.packing.count); }},
+      {"lattice_seed", "", "`-lattice_seed`",
+       [](const R& r) { return summary_count(static_cast<std::int64_t>(r.spec.lattice.seed)); }},
+      {"lattice_generator", "", "`serial` or `cells` (`-lattice_generator`)",
+       [](const R& r) {
+         return std::string(r.spec.generator == LatticeGenerator::cells ? "cells" : "serial");
+       }},
+      {"matrix_max_gap", "d_min", "the largest gap a bridge spans",
+       [](const R& r) { return r.spec.bridges.max_gap / r.spec.packing.d_min; }},
+      {"void_bonds", "", "the rule that makes void bonds (`any_end` or `both_ends`)",
+       [](const R& r) { return std::string(void_rule_name(r.spec.bridges.void_bonds)); }},
+      {"seconds_packing", "s", "the packing", [](const R& r) { return r.stats.packing_seconds; }},
+      {"seconds_lattice", "s", "the lattice", [](const R& r) { return r.stats.lattice_seconds; }},
+      {"seconds_voronoi", "s", "the Voronoi volumes",
+       [](const R& r) { return r.stats.voronoi_seconds; }},
+      {"seconds_phases", "s", "the matrix and the phases",
+       [](const R& r) { return r.stats.phases_seconds; }},
+      {"peak_memory_mb", "MB", "the largest peak resident memory of a rank",
+       [](const R& r) { return r.memory.max_mb; }},
+      {"peak_memory_mean_mb", "MB", "the mean over the ranks of their peak resident memory",
+       [](const R& r) { return r.memory.mean_mb; }},
   };
+  return table;
+}
+
+}  // namespace
+
+const std::vector<SummaryField>& sample_summary_fields() {
+  static const std::vector<SummaryField> fields = described_fields(sample_table());
   return fields;
 }
 
 Summary sample_summary(const CementedSampleStats& st, const CementedSampleSpec& spec,
                        const std::string& file, const PeakMemory& memory) {
   Summary sum;
-  Summary::Described d(sum, sample_summary_fields());
-  const auto count = [&](const std::string& name, std::int64_t n) {
-    d.put(name, static_cast<long long>(n));
-  };
-  d.put("sample_file", file);
-  count("particles", st.particles);
-  count("sample_particles", spec.sample_particles);
-  d.put("side", st.side);
-  count("nodes", st.nodes);
-  count("bonds", st.bonds);
-  d.put("nodes_per_particle", st.nodes_per_particle);
-  d.put("rho_p_geometric", st.rho_p_geometric);
-  d.put("rho_p", st.rho_p);
-  d.put("rho_m_requested", spec.bridges.matrix_fraction);
-  d.put("rho_m", st.rho_m);
-  d.put("rho_v", st.rho_v);
-  for (int k = 0; k < kPhaseCount; ++k)
-    count(std::string("bonds_") + phase_name(static_cast<Phase>(k)), st.bonds_per_phase[k]);
-  d.put("bonds_per_particle", st.bonds_per_particle);
-  count("eligible_pairs", st.eligible_pairs);
-  d.put("eligible_per_particle", st.eligible_per_particle);
-  count("bridges", st.bridges);
-  d.put("bridges_per_particle", st.bridges_per_particle);
-  d.put("interface_ratio_Spm_Sp", st.interface_ratio);
-  count("packing_seed", static_cast<std::int64_t>(spec.packing.seed));
-  count("packing_particles", spec.packing.count);
-  count("lattice_seed", static_cast<std::int64_t>(spec.lattice.seed));
-  d.put("lattice_generator",
-        std::string(spec.generator == LatticeGenerator::cells ? "cells" : "serial"));
-  d.put("matrix_max_gap", spec.bridges.max_gap / spec.packing.d_min);
-  d.put("void_bonds", std::string(void_rule_name(spec.bridges.void_bonds)));
-  d.put("seconds_packing", st.packing_seconds);
-  d.put("seconds_lattice", st.lattice_seconds);
-  d.put("seconds_voronoi", st.voronoi_seconds);
-  d.put("seconds_phases", st.phases_seconds);
-  d.put("peak_memory_mb", memory.max_mb);
-  d.put("peak_memory_mean_mb", memory.mean_mb);
-  d.done();
+  sum.add_from(sample_table(), R{st, spec, file, memory});
   return sum;
 }
 

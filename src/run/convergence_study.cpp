@@ -138,22 +138,30 @@ void run_convergence(MPI_Comm comm, ConvergenceOptions o) {
 
 }  // namespace
 
-const std::vector<SummaryField>& convergence_summary_fields() {
-  static const std::vector<SummaryField> fields = {
-      {"inclusion_volume_fraction", "", "volume fraction of the inclusions and of the pores"},
-      {"inclusion_radius", "smallest box side", "their radius"},
-      {"inclusion_stiffness_ratio", "", "the stiff inclusions' bond stiffness over the matrix's"},
+namespace {
+
+const SummaryTable<SampleOptions>& convergence_table() {
+  static const SummaryTable<SampleOptions> table = {
+      {"inclusion_volume_fraction", "", "volume fraction of the inclusions and of the pores",
+       [](const SampleOptions& r) { return r.inclusions.volume_fraction; }},
+      {"inclusion_radius", "smallest box side", "their radius",
+       [](const SampleOptions& r) { return r.inclusions.radius; }},
+      {"inclusion_stiffness_ratio", "", "the stiff inclusions' bond stiffness over the matrix's",
+       [](const SampleOptions& r) { return r.inclusion_stiffness_ratio; }},
   };
+  return table;
+}
+
+}  // namespace
+
+const std::vector<SummaryField>& convergence_summary_fields() {
+  static const std::vector<SummaryField> fields = described_fields(convergence_table());
   return fields;
 }
 
 Summary convergence_summary(const SampleOptions& sample) {
   Summary summary;
-  Summary::Described d(summary, convergence_summary_fields());
-  d.put("inclusion_volume_fraction", sample.inclusions.volume_fraction);
-  d.put("inclusion_radius", sample.inclusions.radius);
-  d.put("inclusion_stiffness_ratio", sample.inclusion_stiffness_ratio);
-  d.done();
+  summary.add_from(convergence_table(), sample);
   return summary;
 }
 

@@ -252,73 +252,13 @@ Summary fracture_summary(MPI_Comm comm, const SampleOptions& sample, const Fract
                          const FractureOutput& units, const Calibration& calibration, const Case& c,
                          const std::vector<std::string>& warnings) {
   const FractureResult& r = c.result;
-  const double e_eff = r.young_modulus * c.stress_unit, s_eff = r.peak_stress * c.stress_unit;
-  Summary s;
-  const std::vector<SummaryField> fields = fracture_summary_fields();
-  Summary::Described d(s, fields);
-  d.put("sample_file", sample.sample_file);
-  const auto count = [&](const char* name, std::int64_t n) {
-    d.put(name, static_cast<long long>(n));
-  };
-  count("nodes", c.setup.sample.stats.nodes);
-  count("active_bonds", c.setup.active_bonds);
-  d.put("mean_bond_length", c.lattice_a);
-  d.put("increment_over_a", o.increment);
-  d.put("break_rule", o.break_rule);
-  d.put("sigma_unit", units.strength_unit);
-  d.put("E_unit", units.modulus_unit);
-  d.put("sigma_hom", calibration.sigma_hom);
-  d.put("E_hom", calibration.e_hom);
-  d.put("E_eff", e_eff);
-  d.put("E_eff_over_E_unit", e_eff / units.modulus_unit);
-  d.put("sigma_eff", s_eff);
-  d.put("sigma_eff_over_sigma_unit", s_eff / units.strength_unit);
-  d.put("strain_at_peak", r.strain_at_peak);
-  count("peak_step", std::llround(r.peak_step));
-  d.put("final_strain", r.final_strain);
-  d.put("final_stress_over_sigma_unit", r.final_stress * c.stress_unit / units.strength_unit);
-  count("broken", r.broken_total());
-  for (int k = 0; k < kPhaseCount; ++k)
-    if (static_cast<Phase>(k) != Phase::v)
-      count((std::string("broken_") + kPhaseNames[k]).c_str(), r.broken[k]);
-  d.put("n_b", r.particle_damage());
-  count("detached_bonds", r.detached_bonds);
-  count("pinned_nodes", r.pinned_nodes);
-  count("steps", r.steps);
-  count("visited_steps", r.visited_steps);
-  count("rupture_steps", r.rupture_steps);
-  count("relaxation_cycles", r.relaxation_cycles);
-  count("solves", r.solves);
-  count("early_stops", r.early_stops);
-  count("decided_steps", r.decided_steps);
-  count("tie_solves", r.tie_solves);
-  count("tie_iterations", r.tie_iterations);
-  count("ksp_iterations", r.iterations);
-  count("pc_builds", r.preconditioner_builds);
-  count("fallback_solves", r.fallback_solves);
-  d.put("relaxation", o.relaxation);
-  // The fields of the break rules and relaxation schemes (0 for those not
-  // chosen: every summary has the same entries).
-  for (const SummaryField& f : registered_summary_fields()) d.put(f.name, r.plugin_value(f.name));
-  // A plain run solves at every step plus every relaxation cycle.
-  count("solves_stepping_estimate", r.steps + r.relaxation_cycles);
-  d.put("work", r.work);
-  d.put("stored_energy", r.stored_energy);
-  d.put("ground_energy", r.ground_energy);
-  d.put("released_energy", r.released_energy);
-  d.put("energy_balance_error", r.energy_balance_error);
-  d.put("end_reason", r.end_reason);
-  d.put("warnings", warnings);
-  count("resumed", r.resumed);
-  d.put("seconds", r.seconds);
-  // Of this process: a resumed run reports its own part.
-  const PeakMemory memory = peak_memory(comm);
-  d.put("peak_memory_mb", memory.max_mb);
-  d.put("peak_memory_mean_mb", memory.mean_mb);
   int ranks = 1;
   MPI_Comm_size(comm, &ranks);
-  count("mpi_ranks", ranks);
-  d.done();
+  const FractureRecord record{sample,        o,           units,    calibration,       c.setup, r,
+                              c.stress_unit, c.lattice_a, warnings, peak_memory(comm), ranks};
+  const double e_eff = record.e_eff(), s_eff = record.sigma_eff();
+  Summary s;
+  s.add_from(fracture_summary_table(), record);
   say("end: %s at step %lld\n", r.end_reason.c_str(), (long long)r.steps);
   say("E_eff = %.6g (%.4f E_unit)   sigma_eff = %.6g (%.4f sigma_unit) at strain %.4e\n", e_eff,
       e_eff / units.modulus_unit, s_eff, s_eff / units.strength_unit, r.strain_at_peak);
@@ -388,7 +328,7 @@ void run_fracture_job(MPI_Comm comm, const SampleOptions& sample, const Fracture
                       const FractureRunOptions& run, const SolverOptions& solver,
                       const Provenance& provenance) {
   const FractureOptions& options = protocol;
-  fracture_summary_fields();  // a plug-in's field of a taken name: refused before any work
+  fracture_summary_table();  // a plug-in's field of a taken name: refused before any work
   const bool from_file = !sample.sample_file.empty();
   const bool calibrating =
       from_file && run.calibrate && run.sigma_unit == 0 && run.modulus_unit == 0;

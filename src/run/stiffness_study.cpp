@@ -225,40 +225,48 @@ void run_stiffness_study(MPI_Comm comm, StiffnessStudy study, const SolverOption
   say("plot: /usr/bin/python3 tools/plot_stiffness.py %s\n", study.request.dir.c_str());
 }
 
-const std::vector<SummaryField>& stiffness_summary_fields() {
-  static const std::vector<SummaryField> fields = {
-      {"E_p_lattice", "", "E^[p] of the homogeneous lattice, in E^φ units"},
-      {"E_m_lattice", "", "E^[m] of the homogeneous lattice, in E^φ units"},
-      {"lattice_poisson", "", "ν of the homogeneous lattice"},
-      {"face_bonds", "", "`whole` or `halved` (`-lattice_face_bonds`)"},
-      {"bare_intercept", "", "the fit of E_bare/E^[p] against ρ^m (`fits.csv`): intercept"},
-      {"bare_slope", "", "the fit of E_bare/E^[p]: slope"},
-      {"adhesive_intercept", "", "the fit of E_adhesive/E^[p]: intercept"},
-      {"adhesive_slope", "", "the fit of E_adhesive/E^[p]: slope"},
-      {"coverage_intercept", "", "the fit of S^pm/S^p: intercept"},
-      {"coverage_slope", "", "the fit of S^pm/S^p: slope"},
-      {"bare_over_Em_at_highest", "", "E_eff/E^[m] with bare contacts at the largest fraction"},
-      {"adhesive_over_Em_at_highest", "", "E_eff/E^[m] with adhesive contacts there"},
+namespace {
+
+const SummaryTable<StiffnessFindings>& stiffness_table() {
+  static const SummaryTable<StiffnessFindings> table = {
+      {"E_p_lattice", "", "E^[p] of the homogeneous lattice, in E^φ units",
+       [](const StiffnessFindings& r) { return r.e_p; }},
+      {"E_m_lattice", "", "E^[m] of the homogeneous lattice, in E^φ units",
+       [](const StiffnessFindings& r) { return r.e_m; }},
+      {"lattice_poisson", "", "ν of the homogeneous lattice",
+       [](const StiffnessFindings& r) { return r.poisson; }},
+      {"face_bonds", "", "`whole` or `halved` (`-lattice_face_bonds`)",
+       [](const StiffnessFindings& r) { return std::string(r.halved_faces ? "halved" : "whole"); }},
+      {"bare_intercept", "", "the fit of E_bare/E^[p] against ρ^m (`fits.csv`): intercept",
+       [](const StiffnessFindings& r) { return r.bare.intercept; }},
+      {"bare_slope", "", "the fit of E_bare/E^[p]: slope",
+       [](const StiffnessFindings& r) { return r.bare.slope; }},
+      {"adhesive_intercept", "", "the fit of E_adhesive/E^[p]: intercept",
+       [](const StiffnessFindings& r) { return r.adhesive.intercept; }},
+      {"adhesive_slope", "", "the fit of E_adhesive/E^[p]: slope",
+       [](const StiffnessFindings& r) { return r.adhesive.slope; }},
+      {"coverage_intercept", "", "the fit of S^pm/S^p: intercept",
+       [](const StiffnessFindings& r) { return r.coverage.intercept; }},
+      {"coverage_slope", "", "the fit of S^pm/S^p: slope",
+       [](const StiffnessFindings& r) { return r.coverage.slope; }},
+      {"bare_over_Em_at_highest", "", "E_eff/E^[m] with bare contacts at the largest fraction",
+       [](const StiffnessFindings& r) { return r.bare_over_em_at_highest; }},
+      {"adhesive_over_Em_at_highest", "", "E_eff/E^[m] with adhesive contacts there",
+       [](const StiffnessFindings& r) { return r.adhesive_over_em_at_highest; }},
   };
+  return table;
+}
+
+}  // namespace
+
+const std::vector<SummaryField>& stiffness_summary_fields() {
+  static const std::vector<SummaryField> fields = described_fields(stiffness_table());
   return fields;
 }
 
 Summary stiffness_summary(const StiffnessFindings& f) {
   Summary summary;
-  Summary::Described d(summary, stiffness_summary_fields());
-  d.put("E_p_lattice", f.e_p);
-  d.put("E_m_lattice", f.e_m);
-  d.put("lattice_poisson", f.poisson);
-  d.put("face_bonds", std::string(f.halved_faces ? "halved" : "whole"));
-  d.put("bare_intercept", f.bare.intercept);
-  d.put("bare_slope", f.bare.slope);
-  d.put("adhesive_intercept", f.adhesive.intercept);
-  d.put("adhesive_slope", f.adhesive.slope);
-  d.put("coverage_intercept", f.coverage.intercept);
-  d.put("coverage_slope", f.coverage.slope);
-  d.put("bare_over_Em_at_highest", f.bare_over_em_at_highest);
-  d.put("adhesive_over_Em_at_highest", f.adhesive_over_em_at_highest);
-  d.done();
+  summary.add_from(stiffness_table(), f);
   return summary;
 }
 

@@ -1,14 +1,15 @@
-// Every program's summary is written from a table of fields (name, unit,
-// meaning; lem/run/programs.hpp lists them): names are unique and
-// described, a summary written out of its table's order is refused, an
-// entry that no table describes is refused when the summary is written,
-// each program's summary holds exactly its table's entries, and each table
-// is the one of docs/reference/outputs.md (lem_fracture's: of
+// Every program's summary is written from a table of entries, each with its
+// name, unit, meaning and value (lem/run/programs.hpp lists them): names
+// are unique and described, an entry without a value for a run is left
+// out, an entry that no table describes is refused when the summary is
+// written, each program's summary holds exactly its table's entries, and
+// each table is the one of docs/reference/outputs.md (lem_fracture's: of
 // docs/reference/fracture-outputs.md; LEM_WRITE_DOCS=1 rewrites the pages'
 // tables from the code).  lem_fracture's table is
 // src/run/fracture_summary.cpp, with the fields of the registered break
 // rules and relaxation schemes after "relaxation".
 #include "lem/base/summary.hpp"
+#include "lem/packing/packing_file.hpp"
 #include "lem/report/sample_summary.hpp"
 #include "lem/report/tension_summary.hpp"
 #include "lem/run/convergence_study.hpp"
@@ -106,25 +107,65 @@ TEST(FractureSummary, AFieldOfAnotherEntryIsRefused) {
   EXPECT_EQ(break_rules().size(), rules);
 }
 
-TEST(FractureSummary, EntriesFollowTheTable) {
-  Summary s;
-  const std::vector<SummaryField> fields = fracture_summary_fields();
-  Summary::Described d(s, fields);
-  d.put("sample_file", std::string("x.h5"));
-  EXPECT_THROW(d.put("active_bonds", 1LL), std::logic_error);  // "nodes" comes first
-  d.put("nodes", 1LL);
-  EXPECT_THROW(d.done(), std::logic_error);  // the rest is missing
-  EXPECT_NE(s.csv().find("sample_file,nodes"), std::string::npos);
+// An entry is written with its table's unit, and left out when its value
+// function gives nothing for this record.
+TEST(FractureSummary, EntriesAreValuedFromTheRecord) {
+  struct Record {
+    double x;
+    bool has_y;
+  };
+  const SummaryTable<Record> table = {
+      {"x", "s", "a number", [](const Record& r) { return r.x; }},
+      {"y", "", "sometimes",
+       [](const Record& r) -> std::optional<Summary::Value> {
+         if (!r.has_y) return std::nullopt;
+         return summary_count(2);
+       }},
+      {"z", "", "a word", [](const Record&) { return std::string("w"); }},
+  };
+  Summary with, without;
+  with.add_from(table, Record{1.5, true});
+  without.add_from(table, Record{1.5, false});
+  EXPECT_EQ(with.csv(), "x[s],y,z\n1.5,2,w\n");
+  EXPECT_EQ(without.csv(), "x[s],z\n1.5,w\n");
+  EXPECT_TRUE(with.undescribed().empty());
+  EXPECT_EQ(described_fields(table).size(), 3u);
 }
 
 TEST(FractureSummary, UnitsGoToTheCsvHeader) {
+  const SampleOptions sample;
+  const FractureOptions options;
+  const FractureOutput units;
+  const Calibration calibration;
+  const SetupReport setup;
+  const FractureResult result;
+  const FractureRecord record{sample, options, units, calibration, setup, result};
   Summary s;
-  const std::vector<SummaryField> fields = fracture_summary_fields();
-  Summary::Described d(s, fields);
-  for (const SummaryField& f : fields) d.put(f.name, 0.0);
-  d.done();
+  s.add_from(fracture_summary_table(), record);
+  EXPECT_EQ(s.names(), names_of(fracture_summary_fields()));
   EXPECT_NE(s.csv().find(",sigma_unit[stress],E_unit[stress],"), std::string::npos);
   EXPECT_NE(s.csv().find(",seconds[s],peak_memory_mb[MB],"), std::string::npos);
+}
+
+// lem_pack's packing.json: its table's entries, then the provenance.
+TEST(FractureSummary, PackingSidecarWritesItsTable) {
+  Packing packing;
+  packing.box_side = 4;
+  CubeSample cube;
+  cube.side = 2;
+  Provenance provenance;
+  provenance.program = "lem_pack";
+  const std::string json =
+      spheres_json(cube, packing, PackingSpec{}, provenance, "cubic sample", "packing.csv");
+  std::vector<std::string> keys;
+  std::istringstream lines(json);
+  for (std::string line; std::getline(lines, line);)
+    if (line.rfind("  \"", 0) == 0) keys.push_back(line.substr(3, line.find('"', 3) - 3));
+  std::vector<std::string> expected = names_of(packing_summary_fields());
+  for (const std::string& name : names_of(provenance_summary_fields())) expected.push_back(name);
+  EXPECT_EQ(keys, expected);
+  EXPECT_NE(json.find("\"file\": \"packing.csv\""), std::string::npos) << json;
+  EXPECT_NE(json.find("\"box_side\": 4,"), std::string::npos) << json;
 }
 
 // A summary file holds described entries only: one added beside its table

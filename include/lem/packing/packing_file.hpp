@@ -3,8 +3,10 @@
 
 #include "lem/packing/packing.hpp"
 #include "lem/base/provenance.hpp"
+#include "lem/base/summary.hpp"
 
 #include <string>
+#include <vector>
 
 namespace lem {
 
@@ -12,8 +14,12 @@ namespace lem {
 std::string spheres_csv(const CubeSample& cube);
 
 /// The sidecar of a spheres table (<name>.json): what it holds (`what`, the
-/// table's `file`) and how it was made.
+/// table's `file`) and how it was made, written from the table of entries
+/// that packing_summary_fields() describes, then the provenance.
 std::string spheres_json(const CubeSample& cube, const Packing& packing, const PackingSpec& spec,
                          const Provenance& prov, const std::string& what, const std::string& file);
+
+/// The entries of that sidecar, in their order (for the documentation).
+const std::vector<SummaryField>& packing_summary_fields();
 
 }  // namespace lem

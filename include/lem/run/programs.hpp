@@ -5,10 +5,12 @@
 // is fracture_program (fracture_run.hpp), which programs that register
 // their own parts call too.
 //
-// A program's summary.json/.csv is written from a described table of
-// fields (name, unit, meaning); program_summaries() lists them all, and
-// docs/reference/outputs.md shows each, lem_fracture's on
-// docs/reference/fracture-outputs.md (test_fracture_summary keeps them equal).
+// A program's summary.json/.csv (lem_pack's packing.json) is written from
+// its table of entries, each declared once with its name, unit, meaning and
+// value (base/summary.hpp, SummaryEntry); program_summaries() lists their
+// descriptions, and docs/reference/outputs.md shows each, lem_fracture's on
+// docs/reference/fracture-outputs.md (test_fracture_summary keeps them
+// equal).
 #pragma once
 
 #include "lem/base/summary.hpp"
