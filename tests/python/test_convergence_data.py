@@ -267,3 +267,44 @@ def test_the_committed_figures_redraw_byte_for_byte(tmp_path):
         with open(drawn, "rb") as a, open(committed, "rb") as b:
             assert a.read() == b.read(), "%s: run tools/convergence_data.py --figures docs/figures" \
                 % os.path.basename(drawn)
+
+
+def test_elastic_finest_error(lines):
+    """The elastic table's "finest error": the finest size against the line at L_n -> 0."""
+    rows, problems = page_rows("convergence.md"), []
+    for rho in (0.06, 0.13, 0.28):
+        for label, quantity in ELASTIC.items():
+            row = find(rows, "%g" % rho, label, width=10)
+            fitted = lines["elastic-516"][(quantity, rho)]
+            fit = fitted["fit"]
+            error = fitted["points"][-1][2] / fit["intercept"] - 1
+            slack = fitted["rounding"]["intercept"] / fit["intercept"]
+            if not near(numbers_in(row[8])[0], error, slack):
+                problems.append("%s %g: finest error %s, data %.4f" % (quantity, rho, row[8], error))
+    assert not problems, "\n".join(problems)
+
+
+# "Results at a glance": each cell "at 2 500 → at the finest size → at L_n -> 0".
+GLANCE = {"E_eff/E^[p], bare contacts": ("elastic-516", "E_bare_over_Ep", ()),
+          "E_eff/E^[p], adhesive contacts": ("elastic-516", "E_adhesive_over_Ep", ()),
+          "σ_eff/σ^[p]": ("strength-516", "sigma_eff_over_sigma_p", (1.0,)),
+          "σ_eff/σ^[p], σ^pm = 0.6 σ^p": ("strength-516", "sigma_eff_over_sigma_p", (0.6,)),
+          "β, node-stress tail off the box faces": ("strength-516", "beta_off_faces", (None,))}
+
+
+def test_results_at_a_glance(lines):
+    rows, problems = page_rows("convergence.md"), []
+    for label, (table, quantity, rest) in GLANCE.items():
+        row = find(rows, label, width=5)
+        for column, rho in enumerate((0.06, 0.13, 0.28), start=1):
+            key = (quantity, rho) + rest
+            if key not in lines[table]:
+                assert not numbers_in(row[column]), (label, rho)
+                continue
+            fitted = lines[table][key]
+            quoted = numbers_in(row[column])
+            expected = (by_size(fitted)[2500][2], fitted["points"][-1][2])
+            if not (matches(quoted[0], expected[0]) and matches(quoted[1], expected[1])):
+                problems.append("%s %g: %r against %s" % (label, rho, row[column], expected))
+            check_line(quoted[2], fitted, problems, "glance %s %g" % (label, rho))
+    assert not problems, "\n".join(problems)
