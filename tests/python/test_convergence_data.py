@@ -93,18 +93,24 @@ ELASTIC = {"E_bare/E^[p]": "E_bare_over_Ep", "E_adh/E^[p]": "E_adhesive_over_Ep"
            "ν bare": "nu_bare", "ν adhesive": "nu_adhesive"}
 
 
-def test_elastic_table(lines):
-    rows, problems = page_rows("convergence.md"), []
+def elastic_rows(lines):
+    """(quantity, rho^m, page row, kept line) of the elastic table."""
+    rows = page_rows("convergence.md")
     for rho in (0.06, 0.13, 0.28):
         for label, quantity in ELASTIC.items():
-            row = find(rows, "%g" % rho, label, width=10)
-            fitted = lines["elastic-516"][(quantity, rho)]
-            points = by_size(fitted)
-            assert sorted(points) == list(SIZES_516)
-            for column, size in enumerate(SIZES_516, start=2):
-                check_point(row[column], points[size], problems, "elastic %s %g %d"
-                            % (quantity, rho, size))
-            check_line(row[7], fitted, problems, "elastic %s %g" % (quantity, rho))
+            yield (quantity, rho, find(rows, "%g" % rho, label, width=10),
+                   lines["elastic-516"][(quantity, rho)])
+
+
+def test_elastic_table(lines):
+    problems = []
+    for quantity, rho, row, fitted in elastic_rows(lines):
+        points = by_size(fitted)
+        assert sorted(points) == list(SIZES_516)
+        for column, size in enumerate(SIZES_516, start=2):
+            check_point(row[column], points[size], problems, "elastic %s %g %d"
+                        % (quantity, rho, size))
+        check_line(row[7], fitted, problems, "elastic %s %g" % (quantity, rho))
     assert not problems, "\n".join(problems)
 
 
@@ -271,16 +277,13 @@ def test_the_committed_figures_redraw_byte_for_byte(tmp_path):
 
 def test_elastic_finest_error(lines):
     """The elastic table's "finest error": the finest size against the line at L_n -> 0."""
-    rows, problems = page_rows("convergence.md"), []
-    for rho in (0.06, 0.13, 0.28):
-        for label, quantity in ELASTIC.items():
-            row = find(rows, "%g" % rho, label, width=10)
-            fitted = lines["elastic-516"][(quantity, rho)]
-            fit = fitted["fit"]
-            error = fitted["points"][-1][2] / fit["intercept"] - 1
-            slack = fitted["rounding"]["intercept"] / fit["intercept"]
-            if not near(numbers_in(row[8])[0], error, slack):
-                problems.append("%s %g: finest error %s, data %.4f" % (quantity, rho, row[8], error))
+    problems = []
+    for quantity, rho, row, fitted in elastic_rows(lines):
+        fit = fitted["fit"]
+        error = fitted["points"][-1][2] / fit["intercept"] - 1
+        slack = fitted["rounding"]["intercept"] / fit["intercept"]
+        if not near(numbers_in(row[8])[0], error, slack):
+            problems.append("%s %g: finest error %s, data %.4f" % (quantity, rho, row[8], error))
     assert not problems, "\n".join(problems)
 
 
