@@ -25,7 +25,7 @@ def run_script(name, *args):
 
 def test_the_scripts_are_there():
     assert [os.path.basename(s) for s in SCRIPTS] == [
-        "combine_studies.py", "increment_table.py", "options_reference.py", "paper_figures.py",
+        "combine_studies.py", "convergence_data.py", "increment_table.py", "options_reference.py", "paper_figures.py",
         "paper_numbers.py", "plot_bridge_geometry.py",
         "plot_convergence.py", "plot_crack.py", "plot_fracture.py", "plot_stiffness.py",
         "plot_stress.py",

@@ -121,9 +121,6 @@ def test_reference_pages_carry_no_dates(page):
 # entry with a summary of and a link to each of the others.  docs/notes/ is
 # history and exempt.
 MAX_PAGE_LINES = 450
-# docs/convergence.md is being split in work of its own: it may stay longer
-# until that work lands, and then this allowance goes.
-LONG_PAGES_ALLOWED = {"docs/convergence.md"}
 
 
 def reference_pages():
@@ -137,8 +134,6 @@ def test_reference_pages_are_short(page):
     name = os.path.relpath(page, ROOT).replace(os.sep, "/")
     with open(page, encoding="utf-8") as f:
         lines = sum(1 for _ in f)
-    if name in LONG_PAGES_ALLOWED:
-        return
     assert lines <= MAX_PAGE_LINES, (
         "%s has %d lines, more than %d: split it by purpose into pages of its folder, "
         "this one the entry with a summary and a link to each" % (name, lines, MAX_PAGE_LINES))

@@ -25,7 +25,7 @@ import re
 import numpy as np
 import pytest
 
-from lem_tools import analysis, paper, paper_numbers
+from lem_tools import analysis, convergence_data, paper, paper_numbers
 from test_docs_figures import NUMBER, figure, matches
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
@@ -311,6 +311,37 @@ QUOTES = [
      "bonds break between {c} and {d},", dict(a="k14c_nb_min", b="k14c_nb_max",
                                               c="onset_k_conv_min", d="onset_k_conv_max")),
     ("separates", "(2.7–2.9, where ours is)", dict()),
+    # ---- paper-analysis.md: the paper's resolution matched by node count
+    ("res paper", "M ≈ {_} elements with about {a} inside each particle and a roughness "
+     "2a/d̄ ≈ {b} (sect. 2.3), and N ≈ {c} nodes (appendix A)",
+     dict(a=lambda n: convergence_data.PAPER_P_BONDS_PER_PARTICLE,
+          b=lambda n: convergence_data.PAPER_ROUGHNESS, c=lambda n: convergence_data.PAPER_NODES)),
+    ("res M/N", "(M/N ≈ {a} there)",
+     dict(a=lambda n: convergence_data.PAPER_BONDS / convergence_data.PAPER_NODES)),
+    ("res nodes", "({a} nodes per bond at the paper's M, {b} fewer at 10 000 bonds per "
+     "particle), so N ≈ {_} is {c} bonds per particle ({d} bonds); the bonds inside a particle "
+     "scale with M, so {e} of them is {f}; a scales as L_n, so the paper's roughness is {g} "
+     "bonds per particle ({h} bonds; ours at the paper's M is {i})",
+     dict(a="res_nodes_per_bond", b="res_node_spread", c="res_nodes", d="res_nodes_bonds",
+          e=lambda n: convergence_data.PAPER_P_BONDS_PER_PARTICLE, f="res_particle_bonds",
+          g="res_roughness", h="res_roughness_bonds", i="res_our_roughness")),
+    ("res beta 0.06", "matched by node count it is {a}, {b} above the paper's {_} where at "
+     "2 500 bonds per particle it was {c} below; the paper's value is still one of its "
+     "resolution, between our M-matched and N-matched sizes, and {d} at L_n → 0",
+     dict(a="res_beta_006_nodes", b=lambda n: n["res_beta_006_nodes"] / 0.7 - 1,
+          c=lambda n: 1 - n["res_beta_006_elements"] / 0.7,
+          d=lambda n: convergence_data.lines()["strength-516"][
+              ("beta_off_faces", 0.06, None)]["fit"]["intercept"])),
+    ("res beta 0.28", "{a} by node count, {b} below {_} as at 2 500",
+     dict(a="res_beta_028_nodes", b=lambda n: 1 - n["res_beta_028_nodes"] / 2.1)),
+    ("res strain", "by node count {a}·10⁻³ at ρ^m = 0.13 and {b}·10⁻³ at 0.28, {c} and {d} "
+     "below the paper's ≈ {_}", dict(a="res_strain_013_nodes", b="res_strain_028_nodes",
+                                     c=lambda n: 1 - n["res_strain_013_nodes"] / 4,
+                                     d=lambda n: 1 - n["res_strain_028_nodes"] / 4)),
+    ("res modulus", "(the paper's {_} E^[m] is our converged {a}): by node count {b} E^[m], "
+     "by roughness {c}", dict(a=lambda n: 3 * convergence_data.lines()["elastic-516"][
+         ("E_bare_over_Ep", 0.28)]["fit"]["intercept"], b="res_E_bare_028_nodes",
+         c="res_E_bare_028_roughness")),
 ]
 
 # The census: what a number on the pages drawn from the rows may be besides

@@ -12,16 +12,18 @@ the digits they quote, and fails when a page and its data differ.
 The studies read: the 64-particle grid (paper-64 and paper-64-packings), the
 516-particle line at sigma^pm = sigma^p (paper-516-line) and the paper-size
 runs at the paper's increment (increment-516-x1).  Two derivations also use
-values that docs/convergence.md states but no data folder keeps yet
-(paper.CONVERGED_MODULI, paper.STRENGTH_516): eq. 14 with the moduli at
-L_n -> 0, and k of eq. 10 against the resolution.
+values of docs/convergence.md (paper.CONVERGED_MODULI, paper.STRENGTH_516;
+kept as docs/data/convergence-*.csv, which tests/python/test_convergence_data.py
+holds them to): eq. 14 with the moduli at L_n -> 0, and k of eq. 10 against
+the resolution.  The resolution matched to the paper's measures comes from
+lem_tools.convergence_data.
 """
 import os
 import sys
 
 import numpy as np
 
-from . import cli
+from . import cli, convergence_data
 from .analysis import (converged_modulus, crossing, eq10_abscissa, eq10_residuals, fit_eq10,
                        eq14_frontier, group_by_rho, k_c_r_eq14, replicate_means,
                        sample_means)
@@ -299,7 +301,8 @@ def blocks(data=DATA):
     grid, line = Study(GRID, data), Study(LINE, data)
     return {"line": (PAGES["line"], line_table(line)),
             "eq14": (PAGES["analysis"], eq14_table(grid)),
-            "k": (PAGES["analysis"], k_table(grid, line))}
+            "k": (PAGES["analysis"], k_table(grid, line)),
+            "resolution": (PAGES["analysis"], convergence_data.resolution_table())}
 
 
 def replace_block(text, name, content):
@@ -558,6 +561,7 @@ def numbers(data=DATA):
             p["sigma_eff_over_sigma_unit"] / (near["sigma_eff_over_sigma_unit"] / 0.95))
     out.update(increment_numbers(Study((INCREMENT,), data)))
     out.update(resolution_numbers())
+    out.update(convergence_data.matched_numbers())
     return out
 
 
