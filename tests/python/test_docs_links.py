@@ -226,7 +226,8 @@ def test_anchor_rule():
 
 # Options the user pages name on purpose although no program reads them.
 # (the typo of the unknown-option example; the extension example's own options)
-NOT_OPTIONS = {"-lattice_node", "-fracture_counted_label", "-fracture_weakest_count"}
+NOT_OPTIONS = {"-lattice_node", "-fracture_counted_label", "-fracture_weakest_count",
+               "-solver_counted_applications"}
 PETSC_OPTION = re.compile(r"-(ksp|pc|mg|mat|log|memory|fallback|vec|options|patch_ksp|patch_pc|"
                           r"deflation_coarse)_")
 
