@@ -139,7 +139,7 @@ TEST(FractureSummary, UnitsGoToTheCsvHeader) {
   const Calibration calibration;
   const SetupReport setup;
   const FractureResult result;
-  const FractureRecord record{sample, options, units, calibration, setup, result};
+  const FractureRecord record{sample, options, units, calibration, setup, result, 1, 0, {}, {}, 1};
   Summary s;
   s.add_from(fracture_summary_table(), record);
   EXPECT_EQ(s.names(), names_of(fracture_summary_fields()));
