@@ -36,17 +36,6 @@ PetscErrorCode shell_diagonal(Mat A, Vec d) {
 
 }  // namespace
 
-void bond_direction(const DistributedLattice& l, int bond, double n[3]) {
-  const auto [p, q] = l.bond_ends[bond];
-  double length2 = 0;
-  for (int a = 0; a < 3; ++a) {
-    n[a] = l.coords[q][a] - l.coords[p][a];
-    length2 += n[a] * n[a];
-  }
-  const double inv = 1.0 / std::sqrt(length2);
-  for (int a = 0; a < 3; ++a) n[a] *= inv;
-}
-
 BondOperator::BondOperator(const DistributedLattice& lattice, double ground, double scale)
     : lattice_(lattice), ground_(ground), scale_(scale) {
   const int bonds = lattice_.local_bonds();

@@ -16,9 +16,6 @@
 
 namespace lem {
 
-/// Unit vector of a local bond, from its first end to its second.
-void bond_direction(const DistributedLattice& l, int bond, double n[3]);
-
 class BondOperator {
  public:
   /// `ground` on free dofs, `scale` on fixed ones, as ElasticSystem assembles.

@@ -5,6 +5,7 @@
 #include "lem/base/error.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <map>
 
@@ -253,6 +254,17 @@ DistributedLattice distribute_lattice(MPI_Comm comm, const Lattice& lattice,
   piece.unpack(mine);
   take_piece(dl, header, std::move(piece));
   return dl;
+}
+
+void bond_direction(const DistributedLattice& l, int bond, double n[3]) {
+  const auto [p, q] = l.bond_ends[bond];
+  double length2 = 0;
+  for (int a = 0; a < 3; ++a) {
+    n[a] = l.coords[q][a] - l.coords[p][a];
+    length2 += n[a] * n[a];
+  }
+  const double inv = 1.0 / std::sqrt(length2);
+  for (int a = 0; a < 3; ++a) n[a] *= inv;
 }
 
 }  // namespace lem

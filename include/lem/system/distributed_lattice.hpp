@@ -49,6 +49,9 @@ struct DistributedLattice {
   int ghosts() const { return local_nodes() - owned; }
 };
 
+/// Unit vector of a local bond, from its first end to its second.
+void bond_direction(const DistributedLattice& l, int bond, double n[3]);
+
 /// Scatter from rank 0: `lattice`, `constraints` and `partition` are read on
 /// rank 0 only (other ranks may pass empty objects).
 DistributedLattice distribute_lattice(MPI_Comm comm, const Lattice& lattice,
