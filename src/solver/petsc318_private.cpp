@@ -1,8 +1,10 @@
 // The one file that reaches into PETSc's private structures, for PETSc 3.18
 // only: the operations table of a PC (so that a lever is a PC type of its
-// own, as PETSc's built-in ones are) and GAMG's coarsening, whose
-// aggregates -solver_damage_aggregates splits.  Both change between PETSc
-// versions; porting means reading this file against the new headers.
+// own, as PETSc's built-in ones are), GAMG's coarsening, whose aggregates
+// -solver_damage_aggregates splits, and an object's state counter, which the
+// single-precision cycle reads to see K change.  The first two change
+// between PETSc versions; porting means reading this file against the new
+// headers.
 #include "petsc318_private.hpp"
 
 #include "lem/base/error.hpp"
@@ -36,6 +38,12 @@ void define_pc_type(PC pc, void* data, const PcOperations& ops) {
 void* pc_type_data(PC pc) { return pc->data; }
 
 void clear_pc_type_data(PC pc) { pc->data = nullptr; }
+
+PetscObjectState object_state(PetscObject object) {
+  PetscObjectState state = 0;
+  LEM_PETSC(PetscObjectStateGet(object, &state));
+  return state;
+}
 
 namespace {
 

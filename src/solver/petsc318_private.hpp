@@ -24,6 +24,10 @@ void* pc_type_data(PC pc);
 /// In the type's destroy operation, once the data is freed.
 void clear_pc_type_data(PC pc);
 
+/// The state counter of `object` (PetscObjectStateGet, a public function
+/// only from PETSc 3.19): it grows whenever the object's values change.
+PetscObjectState object_state(PetscObject object);
+
 /// Whether `pc` is GAMG with its aggregation (-pc_gamg_type agg).
 bool is_gamg_aggregation(PC pc);
 /// Make the next builds of GAMG `pc` split, after GAMG's own coarsening of

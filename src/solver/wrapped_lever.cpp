@@ -4,6 +4,8 @@
 
 #include "lem/base/error.hpp"
 
+#include <exception>
+
 namespace lem {
 
 void create_coarse_solver(MPI_Comm comm, KspHandle& coarse) {
@@ -85,6 +87,11 @@ PetscErrorCode WrappedLever::set_up(PC pc) {
   // place after every batch of ruptures, and the multigrid is rebuilt only
   // when the outer KSP decides (reused between load steps).
   PetscCall(PCSetReusePreconditioner(w->inner_, PETSC_TRUE));
+  try {
+    w->inner_built();
+  } catch (const std::exception& e) {
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_LIB, "%s", e.what());
+  }
   PetscFunctionReturn(0);
 }
 

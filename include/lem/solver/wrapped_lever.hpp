@@ -49,6 +49,9 @@ class WrappedLever : public SolverLever {
   WrappedLever() = default;
   /// The lever's own set-up, once the inner preconditioner is kept.
   virtual void wrapped(const LeverSite& site) = 0;
+  /// After each build of the inner preconditioner (the PC's set-up), for a
+  /// lever that copies what the build made.  May throw.
+  virtual void inner_built() {}
   /// The lever whose PC `pc` is, in an `apply`.
   template <class Lever>
   static PetscErrorCode context(PC pc, Lever** lever) {
