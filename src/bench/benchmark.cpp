@@ -9,7 +9,7 @@
 #include "lem/base/options.hpp"
 #include "lem/base/petsc_handle.hpp"
 #include "lem/lattice/voronoi.hpp"
-#include "lem/system/single_cycle.hpp"
+#include "lem/solver/single_cycle.hpp"
 
 #include <algorithm>
 #include <array>

@@ -6,7 +6,8 @@
 #include "lem/base/error.hpp"
 #include "lem/base/log.hpp"
 #include "lem/base/driver.hpp"
-#include "lem/system/single_cycle.hpp"
+#include "lem/solver/single_cycle.hpp"
+#include "lem/system/solver_lever.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -225,6 +226,7 @@ void account_one_precision(MPI_Comm comm, const CycleUnderTest& c, bool single, 
   print_rows(title.c_str(), rows, solve_ms);
   say("  (the preconditioner: %.2f ms per CG iteration, %.2f of it in the level rows)\n", pc_ms,
       level_ms);
+  if (single) say("  (%s)\n", c.cycle.work_line().c_str());
 }
 
 // Both precisions alternately, unlogged (index 0 double, 1 single): ms
@@ -331,12 +333,15 @@ void account_levels(MPI_Comm comm, ElasticSystem& sys, DistributedLattice& latti
     PetscPrintf(comm, "levels: not accounted (-pc_type is not gamg or mg)\n");
     return;
   }
-  std::unique_ptr<SingleCycle> added;
-  if (!cycle) {
-    added =
-        std::make_unique<SingleCycle>(lattice, solver.ground_stiffness * sys.constrained_diagonal(),
-                                      sys.constrained_diagonal(), ksp);
-    cycle = added.get();
+  // A run of the double cycle gets a single cycle around its multigrid for
+  // the comparison, as the option would have put it (owned by its PC, which
+  // restore_multigrid drops again).
+  const bool added = !cycle;
+  if (added) {
+    const double scale = sys.constrained_diagonal();
+    const LeverSite site{lattice, sys.matrix(), solver.ground_stiffness * scale, scale, 1};
+    compose_levers(ksp, {{SingleCycle::kType, 1}}, site);
+    cycle = SingleCycle::of(ksp);
     LEM_PETSC(KSPSetUp(ksp));
   }
   CycleUnderTest c{sys, *cycle, ksp, cycle->inner()};

@@ -8,7 +8,6 @@
 #include "lem/base/error.hpp"
 #include "lem/base/log.hpp"
 #include "lem/base/options.hpp"
-#include "lem/system/single_cycle.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -116,10 +115,9 @@ ElasticSystem::ElasticSystem(DistributedLattice& lattice, const SolverOptions& o
     LEM_PETSC(PCSetUseAmat(pc, PETSC_TRUE));
   }
   set_from_options(ksp_);
-  if (options.single_cycle)
-    single_cycle_ = std::make_unique<SingleCycle>(lattice_, ground_, diagonal_scale_, ksp_);
   // The levers, in one place: each a PC type put around the one before.
-  levers_ = compose_levers(ksp_, options.levers, LeverSite{lattice_, K_, ground_, 0});
+  levers_ =
+      compose_levers(ksp_, options.levers, LeverSite{lattice_, K_, ground_, diagonal_scale_, 0});
   spectrum_solves_ = options.spectrum_solves;
   spectrum_prefix_ = options.spectrum_prefix;
   install_convergence_test();

@@ -159,13 +159,6 @@ SolverOptions read_elastic_system_options(MPI_Comm comm) {
         "product; the multigrid is built from the assembled K either way)",
         {{"assembled", SolverOperator::assembled}, {"bonds", SolverOperator::bonds}},
         o.solver_operator);
-    o.single_cycle = g.choice<bool>(
-        "-solver_cycle_precision",
-        "Precision of the multigrid cycle that preconditions CG: "
-        "double (PETSc's GAMG cycle), or single (the same levels, operators and smoothers "
-        "copied to float at every preconditioner build and applied by our own code: about "
-        "half the bytes per cycle; CG, its operator and its residual stay in double)",
-        {{"double", false}, {"single", true}}, o.single_cycle);
     for (const double s : g.positive_reals(
              "-solver_spectrum_solves",
              "Diagnostic: at these "

@@ -83,7 +83,7 @@ std::vector<SolverLever*> compose_levers(KSP ksp, const std::vector<LeverChoice>
     LEM_PETSC(PCSetType(outer, choice.type.c_str()));  // PETSc's registry makes it
     SolverLever* lever = lever_of(outer);
     if (!lever) throw std::logic_error("PC type " + choice.type + " makes no SolverLever");
-    const LeverSite mine{site.lattice, site.K, site.ground, choice.setting};
+    const LeverSite mine{site.lattice, site.K, site.ground, site.constrained, choice.setting};
     lever->wrap(mine, inner);      // takes a reference of its own on inner
     Mat A = nullptr, P = nullptr;  // the operators live in the PC: carried over
     LEM_PETSC(KSPGetOperators(ksp, &A, &P));

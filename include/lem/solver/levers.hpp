@@ -2,6 +2,7 @@
 // multigrid of the elastic system, each a PETSc PC type registered with
 // PCRegister and chosen by its option (lem/system/solver_lever.hpp).
 //
+//   lem_single_cycle        -solver_cycle_precision single  the multigrid cycle in float
 //   lem_damage_aggregates   -solver_damage_aggregates N   GAMG's aggregates split near cracks
 //   lem_particle_deflation  -solver_particle_deflation    rigid modes of every particle
 //   lem_ritz_deflation      -solver_ritz_deflation N      slow Ritz vectors learnt from solves

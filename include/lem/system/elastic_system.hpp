@@ -26,7 +26,6 @@
 namespace lem {
 
 class BondOperator;
-class SingleCycle;
 
 /// The most columns a lever learns (-solver_ritz_deflation), which a
 /// checkpoint holds.
@@ -102,9 +101,6 @@ struct SolverOptions {
   double ground_stiffness = 1e-10;
   /// -solver_operator: what CG multiplies by.
   SolverOperator solver_operator = SolverOperator::bonds;
-  /// -solver_cycle_precision single: the multigrid cycle in float
-  /// (lem/system/single_cycle.hpp); CG stays in double.
-  bool single_cycle = false;
   /// The solver levers chosen by their options, in the order they are put
   /// around the multigrid (lem/system/solver_lever.hpp).
   std::vector<LeverChoice> levers;
@@ -240,6 +236,8 @@ class ElasticSystem {
   /// Bytes one product of the bond operator moves (its model; 0 when unused).
   double bond_operator_bytes() const;
   KSP ksp() const { return ksp_; }
+  /// The levers around the multigrid, innermost first.
+  const std::vector<SolverLever*>& levers() const { return levers_; }
   /// Typical diagonal value used on constrained rows.
   double constrained_diagonal() const { return diagonal_scale_; }
 
@@ -263,11 +261,10 @@ class ElasticSystem {
   VecHandle u_start_;  // initial guess kept for a retry
   VecHandle u_check_;  // ghosted: the check field of a decided solve (mark_check)
   KspHandle ksp_;
-  ConvergenceTest* convergence_ = nullptr;     // owned by ksp_ (destroyed with it)
-  KspHandle fallback_ksp_;                     // CG + Jacobi, for solves the multigrid fails
-  std::vector<SolverLever*> levers_;           // owned by their PCs (so by ksp_)
-  std::unique_ptr<BondOperator> bonds_;        // -solver_operator bonds
-  std::unique_ptr<SingleCycle> single_cycle_;  // -solver_cycle_precision single
+  ConvergenceTest* convergence_ = nullptr;  // owned by ksp_ (destroyed with it)
+  KspHandle fallback_ksp_;                  // CG + Jacobi, for solves the multigrid fails
+  std::vector<SolverLever*> levers_;        // owned by their PCs (so by ksp_)
+  std::unique_ptr<BondOperator> bonds_;     // -solver_operator bonds
   double diagonal_scale_ = 1.0;
   double ground_ = 0.0;  // diagonal added on free dofs (-lattice_ground_stiffness)
   double current_displacement_ = 0.0;

@@ -26,9 +26,10 @@ namespace lem {
 /// What a lever may read of the system it preconditions.
 struct LeverSite {
   const DistributedLattice& lattice;
-  Mat K;           // the assembled matrix, which the multigrid is built from
-  double ground;   // the diagonal of free dofs (-lattice_ground_stiffness)
-  double setting;  // the value its option was given (1 for a flag)
+  Mat K;               // the assembled matrix, which the multigrid is built from
+  double ground;       // the diagonal of free dofs (-lattice_ground_stiffness)
+  double constrained;  // the diagonal of fixed dofs (a typical bond stiffness)
+  double setting;      // the value its option was given (1 for a flag)
 };
 
 /// The calls the elastic system makes on a lever.  Every call is

@@ -23,37 +23,42 @@
 // Supported smoothers: GAMG's default Chebyshev with Jacobi, one sweep per
 // level (-mg_levels_ksp_max_it 1, the solver's default); other settings are
 // refused with a message naming them.
+//
+// It is a solver lever (a PC type, lem_single_cycle, chosen by
+// -solver_cycle_precision single) registered first, so the innermost: it
+// copies the multigrid's own levels and must wrap the multigrid itself.
 #pragma once
 
-#include "lem/system/distributed_lattice.hpp"
 #include "lem/base/petsc_handle.hpp"
+#include "lem/solver/wrapped_lever.hpp"
+#include "lem/system/distributed_lattice.hpp"
 
 #include <petscksp.h>
 
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace lem {
 
 struct FloatBondOperator;  // float_operators.hpp (the fine level in float)
 
-class SingleCycle {
+class SingleCycle final : public WrappedLever {
  public:
-  /// Wraps `ksp`'s current preconditioner (a GAMG or MG, kept as the inner
-  /// PC and built by it) in a shell that applies its cycle in float.
-  /// `ground` and `scale` are the diagonal values of free and fixed dofs
-  /// (as ElasticSystem assembles them).
-  SingleCycle(const DistributedLattice& lattice, double ground, double scale, KSP ksp);
-  ~SingleCycle();
-  SingleCycle(const SingleCycle&) = delete;
-  SingleCycle& operator=(const SingleCycle&) = delete;
+  static constexpr const char* kType = "lem_single_cycle";
+  static constexpr const char* kName = "multigrid cycle in single precision";
+  /// The registry entry: -solver_cycle_precision double|single (0 or 1).
+  static SolverLeverEntry entry();
+
+  SingleCycle();
+  ~SingleCycle() override;
 
   /// The single-precision cycle (true, the default) or the inner
   /// double-precision multigrid itself (false): benchmarks compare both.
   void use_single(bool single) { single_ = single; }
   bool single() const { return single_; }
 
-  /// The object behind `ksp`'s preconditioner, or nullptr if it is none.
+  /// The cycle that is `ksp`'s preconditioner, or nullptr if it is none.
   static SingleCycle* of(KSP ksp);
   /// Whether `pc` is PETSc's own multigrid (gamg or mg): the preconditioners
   /// whose levels this class (and lem_bench's per-level accounting) walks.
@@ -73,30 +78,44 @@ class SingleCycle {
   };
   std::vector<LevelStats> level_stats() const;
   double applications() const { return applications_; }
-  /// Seconds spent in the float cycle on this rank (since the last reset).
+  /// Seconds spent in the float cycle on this rank (since the last reset),
+  /// the fine-level refreshes included.
   double apply_seconds() const { return apply_seconds_; }
+  /// How often an application found K changed and read the fine level
+  /// again: the bonds (refresh_seconds) and the smoother's diagonal and
+  /// step (probe_seconds), seconds on this rank since the last reset.
+  double refreshes() const { return refreshes_; }
+  double refresh_seconds() const { return refresh_seconds_; }
+  double probe_seconds() const { return probe_seconds_; }
+  /// "single cycle: N applications, X s; R refreshes: Y s reading bonds,
+  /// Z s probing smoothers", the seconds the most of any rank.  Collective.
+  std::string work_line() const;
   void reset_stats();
   /// Bytes of this rank's float copies.
   double memory_bytes() const;
 
  private:
+  friend class WrappedLever;
   struct Level;
-  static PetscErrorCode shell_setup(PC pc);
-  static PetscErrorCode shell_apply(PC pc, Vec b, Vec x);
+  /// Throws InputError unless the wrapped PC is a multigrid with the
+  /// smoother the cycle copies.
+  void wrapped(const LeverSite& site) override;
+  void inner_built() override { build(); }
+  static PetscErrorCode apply(PC pc, Vec b, Vec x);
   static void check_smoother_options();
   void build();
   void cycle(int level, bool zero_guess);
   void residual(int level, Vec b, Vec x, Vec r);  // r = b - A x
   void probe_smoother(Level& level);
 
-  const DistributedLattice& lattice_;
-  double ground_, scale_;
-  PC inner_ = nullptr;  // a reference of our own
+  const DistributedLattice* lattice_ = nullptr;
+  double ground_ = 0, scale_ = 0;
   bool single_ = true;
   int cycles_ = 2;                              // 1 V, 2 W
   std::vector<std::unique_ptr<Level>> levels_;  // coarsest first, as PCMG numbers them
   std::unique_ptr<FloatBondOperator> fine_;
   double applications_ = 0, apply_seconds_ = 0;
+  double refreshes_ = 0, refresh_seconds_ = 0, probe_seconds_ = 0;
 };
 
 }  // namespace lem

@@ -3,9 +3,8 @@
 // fine level applied bond by bond.
 #include "float_operators.hpp"
 
-#include "bond_operator.hpp"
-
 #include "lem/base/error.hpp"
+#include "lem/system/distributed_lattice.hpp"
 #include "lem/system/tension.hpp"
 
 #include <algorithm>

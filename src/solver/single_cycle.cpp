@@ -1,13 +1,12 @@
-#include "lem/system/single_cycle.hpp"
+#include "lem/solver/single_cycle.hpp"
 
 #include "float_operators.hpp"
-#include "solver_defaults.hpp"
+#include "petsc318_private.hpp"
 
 #include "lem/base/error.hpp"
-#include "lem/system/tension.hpp"
+#include "lem/base/options.hpp"
 
-#include <petsc/private/petscimpl.h>  // PetscObjectStateGet (public from PETSc 3.19)
-
+#include <cstdio>
 #include <cstring>
 #include <exception>
 #include <string>
@@ -44,9 +43,26 @@ struct SingleCycle::Level {
   double product_bytes = 0, restrict_bytes = 0, interpolate_bytes = 0, vector_bytes = 0;
 };
 
-SingleCycle::SingleCycle(const DistributedLattice& lattice, double ground, double scale, KSP ksp)
-    : lattice_(lattice), ground_(ground), scale_(scale) {
-  LEM_PETSC(KSPGetPC(ksp, &inner_));
+SolverLeverEntry SingleCycle::entry() {
+  return WrappedLever::entry<SingleCycle>(
+      "-solver_cycle_precision single", [](OptionGroup& g) -> double {
+        return g.choice<int>(
+            "-solver_cycle_precision",
+            "Precision of the multigrid cycle that preconditions CG: "
+            "double (PETSc's GAMG cycle), or single (the same levels, operators and smoothers "
+            "copied to float at every preconditioner build and applied by our own code: about "
+            "half the bytes per cycle; CG, its operator and its residual stay in double)",
+            {{"double", 0}, {"single", 1}}, 0);
+      });
+}
+
+SingleCycle::SingleCycle() = default;
+SingleCycle::~SingleCycle() = default;
+
+void SingleCycle::wrapped(const LeverSite& site) {
+  lattice_ = &site.lattice;
+  ground_ = site.ground;
+  scale_ = site.constrained;
   if (!can_wrap(inner_)) {
     PCType type = nullptr;
     LEM_PETSC(PCGetType(inner_, &type));
@@ -55,24 +71,7 @@ SingleCycle::SingleCycle(const DistributedLattice& lattice, double ground, doubl
                      (type ? type : "(none)"));
   }
   check_smoother_options();
-  LEM_PETSC(PetscObjectReference(reinterpret_cast<PetscObject>(inner_)));
-  Mat A = nullptr, P = nullptr;
-  LEM_PETSC(KSPGetOperators(ksp, &A, &P));
-  LEM_PETSC(PetscObjectReference(reinterpret_cast<PetscObject>(A)));
-  LEM_PETSC(PetscObjectReference(reinterpret_cast<PetscObject>(P)));
-  PC shell = nullptr;
-  LEM_PETSC(PCCreate(lattice_.comm, &shell));
-  LEM_PETSC(PCSetType(shell, PCSHELL));
-  LEM_PETSC(PCShellSetName(shell, "multigrid cycle in single precision"));
-  LEM_PETSC(PCShellSetContext(shell, this));
-  LEM_PETSC(PCShellSetSetUp(shell, shell_setup));
-  LEM_PETSC(PCShellSetApply(shell, shell_apply));
-  LEM_PETSC(KSPSetPC(ksp, shell));  // the KSP takes its own reference
-  LEM_PETSC(PCDestroy(&shell));
-  LEM_PETSC(KSPSetOperators(ksp, A, P));
-  MatDestroy(&A);
-  MatDestroy(&P);
-  fine_ = std::make_unique<FloatBondOperator>(lattice_, ground_, scale_);
+  fine_ = std::make_unique<FloatBondOperator>(*lattice_, ground_, scale_);
 }
 
 // The smoothers the float cycle copies, checked before any work (the build
@@ -95,8 +94,6 @@ void SingleCycle::check_smoother_options() {
   }
 }
 
-SingleCycle::~SingleCycle() { PCDestroy(&inner_); }
-
 bool SingleCycle::can_wrap(PC pc) {
   PetscBool mg = PETSC_FALSE;
   LEM_PETSC(PetscObjectTypeCompareAny(reinterpret_cast<PetscObject>(pc), &mg, PCGAMG, PCMG, ""));
@@ -106,42 +103,13 @@ bool SingleCycle::can_wrap(PC pc) {
 SingleCycle* SingleCycle::of(KSP ksp) {
   PC pc = nullptr;
   LEM_PETSC(KSPGetPC(ksp, &pc));
-  PetscBool shell = PETSC_FALSE;
-  LEM_PETSC(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(pc), PCSHELL, &shell));
-  if (!shell) return nullptr;
-  const char* name = nullptr;
-  LEM_PETSC(PCShellGetName(pc, &name));
-  if (!name || std::strcmp(name, "multigrid cycle in single precision") != 0) return nullptr;
-  SingleCycle* s = nullptr;
-  LEM_PETSC(PCShellGetContext(pc, &s));
-  return s;
+  return dynamic_cast<SingleCycle*>(lever_of(pc));
 }
 
-PetscErrorCode SingleCycle::shell_setup(PC pc) {
+PetscErrorCode SingleCycle::apply(PC pc, Vec b, Vec x) {
   PetscFunctionBeginUser;
   SingleCycle* s = nullptr;
-  PetscCall(PCShellGetContext(pc, &s));
-  Mat A = nullptr, P = nullptr;
-  PetscCall(PCGetOperators(pc, &A, &P));
-  PetscCall(PCSetReusePreconditioner(s->inner_, PETSC_FALSE));
-  PetscCall(PCSetOperators(s->inner_, A, P));
-  PetscCall(PCSetUp(s->inner_));
-  PetscCall(apply_multigrid_level_defaults(s->inner_));
-  // The shell decides when the multigrid is built again; PCApply would
-  // otherwise rebuild it whenever K changed.
-  PetscCall(PCSetReusePreconditioner(s->inner_, PETSC_TRUE));
-  try {
-    s->build();
-  } catch (const std::exception& e) {
-    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_LIB, "%s", e.what());
-  }
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode SingleCycle::shell_apply(PC pc, Vec b, Vec x) {
-  PetscFunctionBeginUser;
-  SingleCycle* s = nullptr;
-  PetscCall(PCShellGetContext(pc, &s));
+  PetscCall(context(pc, &s));
   if (!s->single_ || s->levels_.empty()) {
     PetscCall(PCApply(s->inner_, b, x));
     PetscFunctionReturn(0);
@@ -151,15 +119,18 @@ PetscErrorCode SingleCycle::shell_apply(PC pc, Vec b, Vec x) {
     Level& fine = *s->levels_.back();
     // K changes in place with every rupture and pinned node, and the double
     // cycle's fine level follows it: read the fine level again and probe its
-    // smoother again (checked here, not in a pre-solve hook, which a shell
+    // smoother again (checked here, not in a pre-solve hook, which a lever
     // around this one, as the deflation's, would not pass on).
     Mat K = nullptr;
-    PetscObjectState state = 0;
     PetscCall(KSPGetOperators(fine.smoother, nullptr, &K));
-    PetscCall(PetscObjectStateGet(reinterpret_cast<PetscObject>(K), &state));
-    if (state != fine.operator_state) {
+    if (object_state(reinterpret_cast<PetscObject>(K)) != fine.operator_state) {
+      const double t_refresh = MPI_Wtime();
       s->fine_->refresh();
+      const double t_probe = MPI_Wtime();
       s->probe_smoother(fine);
+      s->refreshes_ += 1;
+      s->refresh_seconds_ += t_probe - t_refresh;
+      s->probe_seconds_ += MPI_Wtime() - t_probe;
     }
     fine.b = b;
     fine.x = x;
@@ -279,7 +250,7 @@ void SingleCycle::probe_smoother(Level& level) {
   LEM_PETSC(VecRestoreArrayRead(d, &da));
   Mat Pmat = nullptr;
   LEM_PETSC(KSPGetOperators(level.smoother, nullptr, &Pmat));
-  LEM_PETSC(PetscObjectStateGet(reinterpret_cast<PetscObject>(Pmat), &level.operator_state));
+  level.operator_state = object_state(reinterpret_cast<PetscObject>(Pmat));
 }
 
 void SingleCycle::residual(int l, Vec b, Vec x, Vec r) {
@@ -334,7 +305,7 @@ void SingleCycle::cycle(int l, bool zero_guess) {
 
 std::vector<SingleCycle::LevelStats> SingleCycle::level_stats() const {
   std::vector<LevelStats> out;
-  const MPI_Comm comm = lattice_.comm;
+  const MPI_Comm comm = lattice_->comm;
   for (auto it = levels_.rbegin(); it != levels_.rend(); ++it) {
     const Level& l = **it;
     LevelStats s;
@@ -350,8 +321,20 @@ std::vector<SingleCycle::LevelStats> SingleCycle::level_stats() const {
   return out;
 }
 
+std::string SingleCycle::work_line() const {
+  const MPI_Comm comm = lattice_->comm;
+  char line[256];
+  std::snprintf(line, sizeof line,
+                "single cycle: %.0f applications, %.3g s; %.0f refreshes: %.3g s reading bonds, "
+                "%.3g s probing smoothers",
+                applications_, max_over(comm, apply_seconds_), refreshes_,
+                max_over(comm, refresh_seconds_), max_over(comm, probe_seconds_));
+  return line;
+}
+
 void SingleCycle::reset_stats() {
   applications_ = apply_seconds_ = 0;
+  refreshes_ = refresh_seconds_ = probe_seconds_ = 0;
   for (auto& l : levels_) l->visits = l->products = l->transfers = l->seconds = l->bytes = 0;
 }
 

@@ -2,8 +2,8 @@
 // against GAMG's double cycle it copies: the same preconditioner to float
 // accuracy, the same CG solution to the solve tolerance, also after ruptures
 // and a rebuild, and the option validated.  Runs at 1 and 2 ranks.
+#include "lem/solver/single_cycle.hpp"
 #include "lem/system/elastic_system.hpp"
-#include "lem/system/single_cycle.hpp"
 #include "lem/base/error.hpp"
 #include "lem/setup/setup.hpp"
 
@@ -33,10 +33,19 @@ DistributedLattice random_problem(MPI_Comm comm, std::int64_t nodes) {
       report);
 }
 
-SolverOptions single_options() {
+// The options of a run, with the single cycle or without it, as
+// -solver_cycle_precision chooses it.
+SolverOptions cycle_options(bool single) {
   SolverOptions o;
-  o.single_cycle = true;
+  if (single) o.levers.push_back({SingleCycle::kType, 1});
   return o;
+}
+SolverOptions single_options() { return cycle_options(true); }
+
+bool single_chosen(const SolverOptions& o) {
+  for (const LeverChoice& c : o.levers)
+    if (c.type == SingleCycle::kType) return true;
+  return false;
 }
 
 // |M_single r - M_double r| / |M_double r| for an r that depends on the
@@ -88,8 +97,7 @@ TEST(SingleCycle, SolutionEqualsDoubleCycleAlsoAfterRupturesAndRebuild) {
   std::vector<int> iterations[2];
   for (int single = 0; single < 2; ++single) {
     DistributedLattice lattice = random_problem(PETSC_COMM_WORLD, 12000);
-    SolverOptions options;
-    options.single_cycle = single != 0;
+    SolverOptions options = cycle_options(single != 0);
     ElasticSystem system(lattice, options);
     system.set_reuse_preconditioner(true);
     system.assemble();
@@ -112,6 +120,15 @@ TEST(SingleCycle, SolutionEqualsDoubleCycleAlsoAfterRupturesAndRebuild) {
     EXPECT_GT(tight.reason, 0) << "the 1e-10 solve did not converge";
     record(tight);
     solution[single] = system.solution();
+    if (single) {
+      // The ruptures changed K under the kept multigrid: the cycle read its
+      // fine level again, and says so in its counters.
+      const SingleCycle* cycle = SingleCycle::of(system.ksp());
+      ASSERT_NE(cycle, nullptr);
+      EXPECT_GE(cycle->refreshes(), 1.0);
+      EXPECT_GT(cycle->refresh_seconds() + cycle->probe_seconds(), 0.0);
+      EXPECT_NE(cycle->work_line().find(" refreshes: "), std::string::npos) << cycle->work_line();
+    }
   }
   for (std::size_t k = 0; k < modulus[0].size(); ++k) {
     EXPECT_NEAR(modulus[1][k], modulus[0][k], 1e-9 * std::fabs(modulus[0][k])) << "solve " << k;
@@ -135,8 +152,7 @@ TEST(SingleCycle, SingleLevelIsTheDirectSolve) {
   double modulus[2] = {};
   for (int single = 0; single < 2; ++single) {
     DistributedLattice lattice = random_problem(PETSC_COMM_WORLD, 200);
-    SolverOptions options;
-    options.single_cycle = single != 0;
+    SolverOptions options = cycle_options(single != 0);
     ElasticSystem system(lattice, options);
     system.assemble();
     system.solve(1e-3 * lattice.mean_bond_length);
@@ -149,9 +165,11 @@ TEST(SingleCycle, OptionIsValidated) {
   PetscOptionsSetValue(nullptr, "-solver_cycle_precision", "half");
   EXPECT_THROW(read_solver_options(PETSC_COMM_WORLD), InputError);
   PetscOptionsSetValue(nullptr, "-solver_cycle_precision", "single");
-  EXPECT_TRUE(read_solver_options(PETSC_COMM_WORLD).single_cycle);
+  EXPECT_TRUE(single_chosen(read_solver_options(PETSC_COMM_WORLD)));
+  PetscOptionsSetValue(nullptr, "-solver_cycle_precision", "double");
+  EXPECT_FALSE(single_chosen(read_solver_options(PETSC_COMM_WORLD)));
   PetscOptionsClearValue(nullptr, "-solver_cycle_precision");
-  EXPECT_FALSE(read_solver_options(PETSC_COMM_WORLD).single_cycle);
+  EXPECT_FALSE(single_chosen(read_solver_options(PETSC_COMM_WORLD)));
   // A preconditioner that is no multigrid is refused by name.
   DistributedLattice lattice = random_problem(PETSC_COMM_WORLD, 1500);
   PetscOptionsSetValue(nullptr, "-pc_type", "jacobi");
@@ -171,6 +189,23 @@ TEST(SingleCycle, OptionIsValidated) {
     EXPECT_NE(std::string(e.what()).find("-mg_levels_ksp_max_it 2"), std::string::npos) << e.what();
   }
   PetscOptionsClearValue(nullptr, "-mg_levels_ksp_max_it");
+}
+
+TEST(SingleCycle, DamageAggregatesAroundItAreRefused) {
+  // The damage aggregates change GAMG's own coarsening, and the single cycle
+  // copies GAMG's levels: each needs the multigrid itself, so the two are
+  // refused together, naming the option.
+  DistributedLattice lattice = random_problem(PETSC_COMM_WORLD, 1500);
+  SolverOptions options = single_options();
+  options.levers.push_back({"lem_damage_aggregates", 1});
+  try {
+    ElasticSystem system(lattice, options);
+    ADD_FAILURE() << "no error for the damage aggregates around the single cycle";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("-solver_damage_aggregates"), std::string::npos)
+        << e.what();
+    EXPECT_NE(std::string(e.what()).find("single-precision cycle"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace
