@@ -1,4 +1,5 @@
 #include "lem/solver/levers.hpp"
+#include "lem/solver/single_cycle.hpp"
 #include "lem/run/fracture_run.hpp"
 
 #include "lem/report/calibration.hpp"
@@ -81,6 +82,11 @@ Case run_case(Prepared p, const SolverOptions& solver, const FractureOptions& op
   check_unused_options(SolverStage::created);
   system.assemble();
   c.result = run_fracture(lattice, system, options, output, provenance);
+  // What the single-precision cycle spent, by stage (issue 67: how much of
+  // it goes to following K as it changes).
+  for (const SolverLever* lever : system.levers())
+    if (const auto* cycle = dynamic_cast<const SingleCycle*>(lever))
+      say("%s\n", cycle->work_line().c_str());
   if (write_fields) {
     fault_pause(lattice.comm, "fields", "before the final fields");
     Summary s;
