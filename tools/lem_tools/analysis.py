@@ -18,6 +18,17 @@ PDF_BINS = 80            # bins of the node-stress pdf (fig. 8)
 FACE_TOLERANCE = 1e-9    # a node this close to a box face (relative to the side) lies on it
 
 
+def straight_line(x, y):
+    """(slope, intercept) of y against x by least squares, from sums alone
+    (np.polyfit calls LAPACK, whose last bits depend on the BLAS loaded; the
+    fits of the figures and pages must not)."""
+    x = np.asarray(x, dtype=float)
+    y = np.asarray(y, dtype=float)
+    dx = x - np.mean(x)
+    slope = float(np.sum(dx * (y - np.mean(y))) / np.sum(dx * dx))
+    return slope, float(np.mean(y) - slope * np.mean(x))
+
+
 def tail_exponent(s, start=TAIL_START):
     """beta of P(s) ~ exp(-beta s) above `start`: the maximum-likelihood value
     1 / mean(s - start), and a least-squares fit of the log-histogram as a
@@ -29,7 +40,7 @@ def tail_exponent(s, start=TAIL_START):
     hist, edges = np.histogram(tail, bins=30, range=(0, np.quantile(tail, 0.99)), density=True)
     centres = 0.5 * (edges[1:] + edges[:-1])
     ok = hist > 0
-    slope = np.polyfit(centres[ok], np.log(hist[ok]), 1)[0] if ok.sum() > 3 else float("nan")
+    slope = straight_line(centres[ok], np.log(hist[ok]))[0] if ok.sum() > 3 else float("nan")
     return {"beta": beta_ml, "beta_histogram_fit": -slope, "tail_nodes": int(tail.size),
             "tail_start": start}
 
@@ -115,34 +126,50 @@ def fit_eq10(rho, strength, rho_filled=RHO_FILLED, errors=False):
     fitted to `strength` = sigma_eff / sigma^pm at matrix fractions `rho`,
     rho_f = `rho_filled` (the paper's 0.28 by default); with `errors` also
     the standard errors A_se and k_se of the fit (None with as many points
-    as parameters); None with fewer than two distinct fractions or when the
-    fit fails."""
-    from scipy.optimize import OptimizeWarning, curve_fit
+    as parameters); None with fewer than two distinct fractions.
+
+    Least squares in k alone (A is linear: its best value for each k is a
+    ratio of sums), k in [-20, 0.99 / max rho] so that the denominator stays
+    positive over the data: the best of a scan, refined by Brent's bounded
+    search.  Only sums and scalar arithmetic, no BLAS or LAPACK call, so the
+    fit, and the figures and pages drawn from it, are the same bit for bit
+    whichever BLAS numpy and scipy load (OpenBLAS or the reference one)."""
+    from scipy.optimize import minimize_scalar
 
     rho = np.asarray(rho, dtype=float)
     strength = np.asarray(strength, dtype=float)
-    if len(set(rho)) < 2:
+    if len(set(rho.tolist())) < 2:
         return None
+    shape = rho * (2 * rho_filled - rho)
 
-    def model(r, a, k):
-        return a * r * (2 * rho_filled - r) / (1 - k * r)
-    try:
-        with warnings.catch_warnings():
-            # as many points as parameters leave no covariance, which is not used
-            warnings.simplefilter("ignore", OptimizeWarning)
-            # k < 1 / max(rho) keeps the denominator positive over the data
-            (a, k), covariance = curve_fit(model, rho, strength, p0=(0.3, 2.5),
-                                           bounds=([0, -20], [100, 0.99 / rho.max()]))
-    except (RuntimeError, ValueError):
-        return None
-    residual = strength - model(rho, a, k)
+    def best_a(k):
+        g = shape / (1 - k * rho)
+        return min(max(np.sum(strength * g) / np.sum(g * g), 0.0), 100.0), g
+
+    def squares(k):
+        a, g = best_a(k)
+        return float(np.sum((strength - a * g) ** 2))
+    low, high = -20.0, 0.99 / rho.max()
+    scan = np.linspace(low, high, 2001)
+    i = int(np.argmin([squares(k) for k in scan]))
+    bracket = (scan[max(i - 1, 0)], scan[min(i + 1, len(scan) - 1)])
+    k = float(minimize_scalar(squares, bounds=bracket, method="bounded",
+                              options={"xatol": 1e-13}).x)
+    a, g = best_a(k)
+    residual = strength - a * g
     fit = {"A": float(a), "k": float(k), "rho_filled": rho_filled,
            "rms_relative_residual": float(np.sqrt(np.mean((residual / strength) ** 2))),
            "points": int(len(rho))}
     if errors:
-        se = np.sqrt(np.diag(covariance)) if len(rho) > 2 else [None, None]
-        fit.update(A_se=None if se[0] is None else float(se[0]),
-                   k_se=None if se[1] is None else float(se[1]))
+        fit.update(A_se=None, k_se=None)
+        if len(rho) > 2:
+            # the covariance of least squares, s^2 (J^T J)^-1, J the model's
+            # derivatives in A and k, s^2 the residuals' variance
+            da, dk = g, a * g * rho / (1 - k * rho)
+            aa, ak, kk = np.sum(da * da), np.sum(da * dk), np.sum(dk * dk)
+            s2 = np.sum(residual ** 2) / (len(rho) - 2)
+            det = aa * kk - ak * ak
+            fit.update(A_se=float(np.sqrt(s2 * kk / det)), k_se=float(np.sqrt(s2 * aa / det)))
     return fit
 
 

@@ -26,7 +26,7 @@ import numpy as np
 from . import cli, convergence_data
 from .analysis import (converged_modulus, crossing, eq10_abscissa, eq10_residuals, fit_eq10,
                        eq14_frontier, group_by_rho, k_c_r_eq14, replicate_means,
-                       sample_means)
+                       sample_means, straight_line)
 from .errors import ToolError
 from .paper import CONVERGED_FIRST_STEP_MODULI, CONVERGED_MODULI, STRENGTH_516
 from .paper_figures import read_folders
@@ -37,6 +37,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 DATA = os.path.join(ROOT, "docs", "data")
 GRID = ("paper-64", "paper-64-packings")
 LINE = ("paper-516-line",)
+GRID_516 = ("paper-516-grid",)
 INCREMENT = "increment-516-x1"
 POINT_COLUMNS = COLUMNS + ("n_b_without_bare_contacts", "broken_p", "strain_at_peak")
 NB_LEVEL = 0.01        # the n_b whose crossing is fig. 16's threshold
@@ -80,8 +81,8 @@ def modulus_line(samples, start=0.0):
     """(intercept, slope) of E_eff/E^[p] against rho^m through the samples
     from rho^m = `start` up: fig. 5's dotted line (least squares)."""
     chosen = [s for s in samples if s["rho_m"] >= start - 1e-9]
-    slope, intercept = np.polyfit([s["rho_m"] for s in chosen],
-                                  [s["E_eff_over_E_unit"] for s in chosen], 1)
+    slope, intercept = straight_line([s["rho_m"] for s in chosen],
+                                     [s["E_eff_over_E_unit"] for s in chosen])
     return float(intercept), float(slope)
 
 
@@ -192,7 +193,7 @@ def fixed_k_a(points, k):
     """A of eq. 10 in sigma^[p] units with k held at `k` (least squares)."""
     rho, y = strength_over_adhesion(points)
     x = eq10_abscissa(rho, k)
-    return float(np.dot(x, y) / np.dot(x, x))
+    return float(np.sum(x * y) / np.sum(x * x))
 
 
 def onset_k(study, moduli=CONVERGED_MODULI):
@@ -251,6 +252,57 @@ def line_table(study):
     return "\n".join(lines)
 
 
+def grid_516_table(grid_516, grid):
+    """The markdown table of the 516-particle grid beside the 64-particle
+    one, one row per point of the study file (pending: not yet run)."""
+    rhos, ratios = (0.06, 0.13, 0.28), (0.2, 0.6, 1.4)
+
+    def near(points, rho, ratio):
+        found = [q for q in points
+                 if abs(q["rho_m"] - rho) < 1e-9 and abs(q["sigma_pm_ratio"] - ratio) < 1e-9]
+        return found[0] if found else None
+
+    def between(points, rho, ratio):
+        """The 64-particle point, linear in sigma^pm between its two
+        neighbours where the grid has none (0.6 between 0.5 and 0.65)."""
+        if near(points, rho, ratio):
+            return near(points, rho, ratio)
+        row = sorted((q for q in points if abs(q["rho_m"] - rho) < 1e-9),
+                     key=lambda q: q["sigma_pm_ratio"])
+        lo = [q for q in row if q["sigma_pm_ratio"] < ratio][-1]
+        hi = [q for q in row if q["sigma_pm_ratio"] > ratio][0]
+        w = (ratio - lo["sigma_pm_ratio"]) / (hi["sigma_pm_ratio"] - lo["sigma_pm_ratio"])
+        mixed = {"std": {}, "replicates": min(lo["replicates"], hi["replicates"])}
+        for column in POINT_COLUMNS:
+            mixed[column] = (1 - w) * lo[column] + w * hi[column]
+            mixed["std"][column] = (1 - w) * lo["std"][column] + w * hi["std"][column]
+        return mixed
+
+    def mean_sd(q, column, digits, scale=1.0):
+        """The mean ± the standard deviation over the packings (one packing:
+        the value alone)."""
+        if q["replicates"] == 1:
+            return "%.*f" % (digits, q[column] * scale)
+        return "%.*f ± %.*f" % (digits, q[column] * scale, digits, q["std"][column] * scale)
+    lines = ["| ρ^m | σ^pm/σ^p | σ_eff/σ^[p]: 516 p | 64 p | ε_zz at the peak: 516 p | 64 p "
+             "| n_b: 516 p | 64 p | n_b without bare contacts: 516 p | 64 p | solves (516 p) |", "|---|---|---|---|---|---|---|---|---|---|---|"]
+    for rho in rhos:
+        for ratio in ratios:
+            big, small = near(grid_516.points, rho, ratio), between(grid.points, rho, ratio)
+            cells = ["%.3f" % big["sigma_eff_over_sigma_unit"] if big else "pending",
+                     mean_sd(small, "sigma_eff_over_sigma_unit", 3),
+                     strain_text(big["strain_at_peak"]) if big else "–",
+                     ("(%s)·10⁻³" if small["replicates"] > 1 else "%s·10⁻³")
+                     % mean_sd(small, "strain_at_peak", 2, 1e3),
+                     "%.3f" % big["n_b"] if big else "–", mean_sd(small, "n_b", 3),
+                     "%.3f" % big["n_b_without_bare_contacts"] if big else "–",
+                     mean_sd(small, "n_b_without_bare_contacts", 3)]
+            run = [r for r in grid_516.rows if big and r["id"] in big["runs"]]
+            cells.append(thousands(run[0]["solves"]) if run else "–")
+            lines.append("| %g | %g | %s |" % (rho, ratio, " | ".join(cells)))
+    return "\n".join(lines)
+
+
 def eq14_table(grid):
     """The markdown table of eq. 14's thresholds (eq14_thresholds), per rho^m."""
     columns = [eq14_thresholds(grid, "n_b"), eq14_thresholds(grid, "n_b"),
@@ -300,6 +352,7 @@ def blocks(data=DATA):
     """{block name: (page, generated text)}."""
     grid, line = Study(GRID, data), Study(LINE, data)
     return {"line": (PAGES["line"], line_table(line)),
+            "grid516": (PAGES["line"], grid_516_table(Study(GRID_516, data), grid)),
             "eq14": (PAGES["analysis"], eq14_table(grid)),
             "k": (PAGES["analysis"], k_table(grid, line)),
             "resolution": (PAGES["analysis"], convergence_data.resolution_table())}
@@ -524,6 +577,24 @@ def line_numbers(line):
     return out
 
 
+def grid_516_numbers(grid_516, grid, line):
+    """The 516-particle grid's numbers, by name, each kept point against
+    the 64-particle grid's packings and the line at sigma^pm = sigma^p."""
+    out = {"g516_kept": len(grid_516.rows), "g516_strain_cap": stopping(grid_516)[1]}
+    for q in grid_516.points:
+        t = "%s_%s" % (tag(q["rho_m"]), tag(q["sigma_pm_ratio"]))
+        small = grid.point(q["rho_m"], q["sigma_pm_ratio"])
+        for column, name in (("sigma_eff_over_sigma_unit", "sigma"), ("n_b", "nb"),
+                             ("n_b_without_bare_contacts", "nbw")):
+            out["g516_%s_%s" % (name, t)] = q[column]
+            out["g516_%s_sd_%s" % (name, t)] = (q[column] - small[column]) / small["std"][column]
+        out["g516_peak_strain_over_64_%s" % t] = q["strain_at_peak"] / small["strain_at_peak"]
+        out["g516_adhesion_step_%s" % t] = q["sigma_pm_ratio"] - 1.0
+        out["g516_gain_%s" % t] = (q["sigma_eff_over_sigma_unit"] /
+                                   line.point(q["rho_m"], 1.0)["sigma_eff_over_sigma_unit"] - 1)
+    return out
+
+
 def increment_numbers(study):
     out = {}
     for r in study.rows:
@@ -560,6 +631,7 @@ def numbers(data=DATA):
         out["line_over_grid_%s" % tag(p["rho_m"])] = (
             p["sigma_eff_over_sigma_unit"] / (near["sigma_eff_over_sigma_unit"] / 0.95))
     out.update(increment_numbers(Study((INCREMENT,), data)))
+    out.update(grid_516_numbers(Study(GRID_516, data), grid, line))
     out.update(resolution_numbers())
     out.update(convergence_data.matched_numbers())
     return out
