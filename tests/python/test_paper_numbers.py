@@ -261,6 +261,17 @@ QUOTES = [
      dict(a="E_conv_006", b="E_conv_013", c="E_conv_028")),
     ("note 5", "{a} E^[m] = {b} ± {_} E^[p] at L_n → 0. The paper's value",
      dict(a="E_conv_m_028", b="E_conv_028")),
+    ("note 8 at 516", "At 516 particles ({b} b/p) the point itself gives {a} σ^[p]",
+     dict(a="g516_sigma_028_140", b="line_bpp")),
+    ("note 8 full pores", "was run where they are full: ρ^m = {a} on the same three packings",
+     dict(a="coating_rho")),
+    ("note 8 coating", "σ_eff = {a} ± {b} σ^[p] at 0.95 σ^p rises to {c} ± {d} σ^[p] at 1.4 σ^p, "
+     "still {e} below σ^[p]", dict(a="coating_sigma_095", b="coating_sigma_sd_095",
+                                  c="coating_sigma_140", d="coating_sigma_sd_140",
+                                  e="coating_below_140")),
+    ("table coating 516", "| {a} σ^[p] at 1.4 σ^p (the grid) |", dict(a="g516_sigma_028_140")),
+    ("table coating full pores", "{a} ± {b} σ^[p] at full pores (Note 8)",
+     dict(a="coating_sigma_140", b="coating_sigma_sd_140")),
     ("note 8", "(1 250 b/p): {a} ± {b} σ^[p] at σ^pm = 1.4 σ^p (three packings)",
      dict(a="sigma_028_140", b="sigma_sd_028_140")),
     ("note 9", "the peak strain grows with σ^pm: {a}–{b} for σ^pm ≥ 0.8 σ^p, {c}–{d} at 0.2.",
@@ -612,7 +623,8 @@ def test_falls_name_the_steps_they_cover():
 
 @pytest.mark.long  # draws both studies' figures: 10-20 s
 @pytest.mark.parametrize("folders, out", [
-    (("paper-64", "paper-64-packings"), "paper-64"), (("paper-516-line",), "paper-516-line")])
+    (("paper-64", "paper-64-packings"), "paper-64"), (("paper-516-line",), "paper-516-line"),
+    (("coating-64",), "coating-64")])
 def test_the_committed_figures_redraw_byte_for_byte(tmp_path, folders, out):
     """docs/figures/<study>/ is what tools/paper_figures.py draws from the
     committed rows, to the byte (the same packages: matplotlib writes its

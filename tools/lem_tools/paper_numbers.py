@@ -38,6 +38,7 @@ DATA = os.path.join(ROOT, "docs", "data")
 GRID = ("paper-64", "paper-64-packings")
 LINE = ("paper-516-line",)
 GRID_516 = ("paper-516-grid",)
+COATING = ("coating-64",)
 INCREMENT = "increment-516-x1"
 POINT_COLUMNS = COLUMNS + ("n_b_without_bare_contacts", "broken_p", "strain_at_peak")
 NB_LEVEL = 0.01        # the n_b whose crossing is fig. 16's threshold
@@ -595,6 +596,18 @@ def grid_516_numbers(grid_516, grid, line):
     return out
 
 
+def coating_numbers(coating):
+    """The coating study's numbers (full pores, the grid's three packings),
+    by name: sigma_eff/sigma^[p] per adhesion, mean and standard deviation."""
+    out = {"coating_rho": coating.points[0]["rho_m"]}
+    for q in coating.points:
+        t = tag(q["sigma_pm_ratio"])
+        out["coating_sigma_%s" % t] = q["sigma_eff_over_sigma_unit"]
+        out["coating_sigma_sd_%s" % t] = q["std"]["sigma_eff_over_sigma_unit"]
+    out["coating_below_140"] = 1 - out["coating_sigma_140"]
+    return out
+
+
 def increment_numbers(study):
     out = {}
     for r in study.rows:
@@ -632,6 +645,7 @@ def numbers(data=DATA):
             p["sigma_eff_over_sigma_unit"] / (near["sigma_eff_over_sigma_unit"] / 0.95))
     out.update(increment_numbers(Study((INCREMENT,), data)))
     out.update(grid_516_numbers(Study(GRID_516, data), grid, line))
+    out.update(coating_numbers(Study(COATING, data)))
     out.update(resolution_numbers())
     out.update(convergence_data.matched_numbers())
     return out
