@@ -61,6 +61,10 @@ for f in bin/lem_fracture bin/lem_sample bin/lem_tension lib/liblem_base.a lib/l
   [ -e "$prefix/$f" ] || fail "not installed: $f"
 done
 ! ldd "$prefix/bin/lem_fracture" | grep "not found" || fail "installed lem_fracture misses libraries"
+# The BLAS behind PETSc is the optimised one jobs/install-deps.sh installs.
+blas="$(ldd "$prefix/bin/lem_fracture" | awk '$1 == "libblas.so.3" {print $3}')"
+[ -n "$blas" ] || fail "lem_fracture loads no libblas.so.3"
+realpath "$blas" | grep -q openblas || fail "lem_fracture's BLAS is $(realpath "$blas"), not OpenBLAS"
 PYTHONPATH="$prefix/share/lem3d/tools" /usr/bin/python3 -c \
   "import lem_tools.study as s, sys; sys.exit(not s.__file__.startswith('$prefix/'))" ||
   fail "lem_tools is not imported from the install"

@@ -10,7 +10,12 @@ fi
 packages=(build-essential cmake pkg-config git petsc-dev libmetis-dev libcgal-dev
           libhdf5-openmpi-dev openmpi-bin libgtest-dev python3-matplotlib python3-h5py
           python3-numpy python3-scipy python3-yaml python3-pytest python3-meshio
-          clang-format-14)
+          clang-format-14 libopenblas0-serial)
+# libopenblas0-serial: Debian links PETSc, numpy and scipy to the reference
+# BLAS unless an optimised one is installed, which then takes its place
+# (update-alternatives).  Serial, not pthread: each MPI rank is one core.
+# A factorization (-pc_type cholesky -pc_factor_mat_solver_type mumps)
+# is several times slower on the reference BLAS (docs/notes/blas.md).
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
