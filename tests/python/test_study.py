@@ -65,6 +65,7 @@ def test_valid_study_gets_the_defaults(tmp_path):
     (("name: t", "name: t\nphases: {E_p: .inf}"), "phases.E_p must be a number > 0"),
     (("name: t", "name: t\nphases: {E_p: -3}"), "phases.E_p must be a number > 0"),
     (("name: t", "name: t\nphases: {E_x: 3}"), "phases accepts only"),
+    (("name: t", "name: t\nphases: {sigma_pp: -0.003}"), r"phases.sigma_pp must be a number > 0 \(or 0\)"),
     (("name: t", "name: t\nfracture_options: {}"), r"unknown key\(s\) fracture_options"),
     (("name: t", "name: t\nfracture: {output_dir: x}"), "output_dir are set by the study"),
     (("name: t", "name: t\nfracture: {ksp_type: [cg]}"), "fracture.ksp_type must be a single"),
@@ -134,6 +135,22 @@ def test_hash_ignores_the_rank_count_only(tmp_path):
                                                   "r.yaml"))) == one
     assert study.study_hash(load_study(study_file(tmp_path, BASE.replace("0.24", "0.25"),
                                                   "g.yaml"))) != one
+
+
+def test_particle_contact_strength_reaches_the_runs(tmp_path):
+    """phases.sigma_pp (the paper's fig. 3: 0.3 sigma^p) is -phase_sigma_pp of
+    every run; left out, the runs have bare contacts and the hash is that of
+    a study file that never knew the key."""
+    bare = Study(study_file(tmp_path), str(tmp_path / "a"), bin_dir=str(tmp_path / "no-bin"))
+    options = bare.fracture_options([])
+    assert options[options.index("-phase_sigma_pp") + 1] == "0"
+    assert "sigma_pp" not in bare.spec["phases"]
+    text = BASE.replace("name: t", "name: t\nphases: {sigma_pp: 0.003}")
+    glued = Study(study_file(tmp_path, text, "pp.yaml"), str(tmp_path / "b"),
+                  bin_dir=str(tmp_path / "no-bin"))
+    options = glued.fracture_options([])
+    assert options[options.index("-phase_sigma_pp") + 1] == "0.003"
+    assert study.study_hash(glued.spec) != study.study_hash(bare.spec)
 
 
 def test_options_list():

@@ -39,6 +39,7 @@ GRID = ("paper-64", "paper-64-packings")
 LINE = ("paper-516-line",)
 GRID_516 = ("paper-516-grid",)
 COATING = ("coating-64",)
+FIG3 = ("fig3-64",)
 INCREMENT = "increment-516-x1"
 POINT_COLUMNS = COLUMNS + ("n_b_without_bare_contacts", "broken_p", "strain_at_peak")
 NB_LEVEL = 0.01        # the n_b whose crossing is fig. 16's threshold
@@ -608,6 +609,15 @@ def coating_numbers(coating):
     return out
 
 
+def fig3_numbers(fig3):
+    """The fig. 3 study's numbers (sigma^pm = 0.3 sigma^p, bare contacts),
+    by name: the range of the peak strains and strengths."""
+    strain = [r["strain_at_peak"] for r in fig3.rows]
+    sigma = [r["sigma_eff_over_sigma_unit"] for r in fig3.rows]
+    return {"fig3_030_peak_min": min(strain), "fig3_030_peak_max": max(strain),
+            "fig3_030_sigma_min": min(sigma), "fig3_030_sigma_max": max(sigma)}
+
+
 def increment_numbers(study):
     out = {}
     for r in study.rows:
@@ -646,6 +656,7 @@ def numbers(data=DATA):
     out.update(increment_numbers(Study((INCREMENT,), data)))
     out.update(grid_516_numbers(Study(GRID_516, data), grid, line))
     out.update(coating_numbers(Study(COATING, data)))
+    out.update(fig3_numbers(Study(FIG3, data)))
     out.update(resolution_numbers())
     out.update(convergence_data.matched_numbers())
     return out

@@ -25,7 +25,8 @@ Study file keys (YAML; anything else is an error):
   matrix_fractions   list of rho^m (one sample each)
   sigma_pm_ratios    list of sigma^pm / sigma^p (one run per sample and value)
   phases             E_p, E_m, E_pp, E_pm, sigma_p (defaults: the paper's
-                     3, 1, 1, 1 and 0.01; sigma^m = sigma^p, sigma^pp = 0)
+                     3, 1, 1, 1 and 0.01; sigma^m = sigma^p) and sigma_pp
+                     (default 0: bare contacts; the paper's fig. 3 has 0.3 sigma^p)
   fracture           lem_fracture / PETSc options of every run, without the dash
   strain_increment   load step of every run as a strain: -fracture_increment
                      = this x L / a of the run's sample (a the mean length of
@@ -211,11 +212,13 @@ def load_study(path):
         study[key] = [float(v) for v in values]
     phases = dict(PHASE_KEYS)
     given = mapping("phases")
-    if set(given) - set(PHASE_KEYS):
-        raise bad("phases accepts only %s", ", ".join(sorted(PHASE_KEYS)))
+    if set(given) - set(PHASE_KEYS) - {"sigma_pp"}:
+        raise bad("phases accepts only %s", ", ".join(sorted(set(PHASE_KEYS) | {"sigma_pp"})))
     for k, v in given.items():
-        if not is_number(v) or v <= 0:
-            raise bad("phases.%s must be a number > 0, not %r", k, v)
+        if not is_number(v) or v < 0 or (v == 0 and k != "sigma_pp"):
+            raise bad("phases.%s must be a number > 0%s, not %r", k,
+                      " (or 0)" if k == "sigma_pp" else "", v)
+        # sigma_pp only when given, so that the hash of the other studies stays theirs
         phases[k] = float(v)
     study["phases"] = phases
     clash = RESERVED_OPTIONS & (set(study["sample"]) | set(study["fracture"]))
@@ -406,7 +409,8 @@ class Study:
         ph = self.spec["phases"]
         return (self.moduli_options(ph["E_pp"]) + [
             "-phase_sigma_p", str(ph["sigma_p"]), "-phase_sigma_m", str(ph["sigma_p"]),
-            "-phase_sigma_pp", "0"] + options_list(self.spec["fracture"]) + extra)
+            "-phase_sigma_pp", str(ph.get("sigma_pp", 0))] + options_list(self.spec["fracture"])
+            + extra)
 
     def fracture_command(self, sample, out_dir, extra):
         return (launcher(self.spec["ranks"]) + [
