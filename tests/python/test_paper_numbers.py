@@ -275,6 +275,10 @@ QUOTES = [
     ("fig 3 at 0.3", "the eight curves peak at {a}–{b}·10⁻³ with σ_eff = {c}–{d} σ^[p]",
      dict(a=("fig3_030_peak_min", 1e3), b=("fig3_030_peak_max", 1e3), c="fig3_030_sigma_min",
           d="fig3_030_sigma_max")),
+    ("fig 3 with contacts", "the peaks lie at {a}–{b}·10⁻³, σ_eff = {c}–{d} σ^[p], {e}–{f} above "
+     "the same sample's with bare contacts",
+     dict(a=("fig3_pp_peak_min", 1e3), b=("fig3_pp_peak_max", 1e3), c="fig3_pp_sigma_min",
+          d="fig3_pp_sigma_max", e=("fig3_pp_gain_min", 100), f="fig3_pp_gain_max")),
     ("note 8", "(1 250 b/p): {a} ± {b} σ^[p] at σ^pm = 1.4 σ^p (three packings)",
      dict(a="sigma_028_140", b="sigma_sd_028_140")),
     ("note 9", "the peak strain grows with σ^pm: {a}–{b} for σ^pm ≥ 0.8 σ^p, {c}–{d} at 0.2.",
@@ -627,7 +631,8 @@ def test_falls_name_the_steps_they_cover():
 @pytest.mark.long  # draws both studies' figures: 10-20 s
 @pytest.mark.parametrize("folders, out", [
     (("paper-64", "paper-64-packings"), "paper-64"), (("paper-516-line",), "paper-516-line"),
-    (("coating-64",), "coating-64"), (("fig3-64",), "fig3-64")])
+    (("coating-64",), "coating-64"), (("fig3-64",), "fig3-64"),
+    (("fig3-pp-64",), "fig3-pp-64")])
 def test_the_committed_figures_redraw_byte_for_byte(tmp_path, folders, out):
     """docs/figures/<study>/ is what tools/paper_figures.py draws from the
     committed rows, to the byte (the same packages: matplotlib writes its

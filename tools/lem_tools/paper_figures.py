@@ -143,13 +143,17 @@ def single(title):
     return fig, ax
 
 
-def fig03(points, kept, res):
-    """Stress against strain at the adhesion nearest sigma^p, one colour per rho^m."""
+def fig03(points, kept, res, phases):
+    """Stress against strain at the adhesion nearest sigma^p, one colour per
+    rho^m (the particle contacts' strength named where they have one)."""
     ratios = sorted({p["sigma_pm_ratio"] for p in points})
     ratio = min(ratios, key=lambda r: abs(r - 1.0))
     colors = point_colors(points)
-    fig, ax = single(r"stress-strain at $\sigma^{pm}/\sigma^p$ = %.2f (paper fig. 3)"
-                     % ratio)
+    contacts = ""
+    if phases.get("sigma_pp"):
+        contacts = r", $\sigma^{pp}/\sigma^p$ = %.2f" % (phases["sigma_pp"] / phases["sigma_p"])
+    fig, ax = single(r"stress-strain at $\sigma^{pm}/\sigma^p$ = %.2f%s (paper fig. 3)"
+                     % (ratio, contacts))
     for p in points:
         if p["sigma_pm_ratio"] != ratio:
             continue
@@ -360,7 +364,7 @@ def figures(folders):
     samples = sample_means(rows)
     fit = fit_eq10([p["rho_m"] for p in points], [p["sigma_eff_over_sigma_pm"] for p in points])
     res = resolution(rows, kept)
-    drawn = {"fig03": fig03(points, kept, res), "fig05": fig05(samples, phases, res),
+    drawn = {"fig03": fig03(points, kept, res, phases), "fig05": fig05(samples, phases, res),
              "fig08": fig08(points, samples, kept, phases, res), "fig09": fig09(points, res),
              "fig11": fig11(rows, kept, res), "fig12": fig12(points, fit, res),
              "fig13": fig13(points, kept, res), "fig14": fig14(points, res),

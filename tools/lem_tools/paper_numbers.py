@@ -40,6 +40,7 @@ LINE = ("paper-516-line",)
 GRID_516 = ("paper-516-grid",)
 COATING = ("coating-64",)
 FIG3 = ("fig3-64",)
+FIG3_PP = ("fig3-pp-64",)
 INCREMENT = "increment-516-x1"
 POINT_COLUMNS = COLUMNS + ("n_b_without_bare_contacts", "broken_p", "strain_at_peak")
 NB_LEVEL = 0.01        # the n_b whose crossing is fig. 16's threshold
@@ -609,13 +610,23 @@ def coating_numbers(coating):
     return out
 
 
-def fig3_numbers(fig3):
-    """The fig. 3 study's numbers (sigma^pm = 0.3 sigma^p, bare contacts),
-    by name: the range of the peak strains and strengths."""
-    strain = [r["strain_at_peak"] for r in fig3.rows]
-    sigma = [r["sigma_eff_over_sigma_unit"] for r in fig3.rows]
-    return {"fig3_030_peak_min": min(strain), "fig3_030_peak_max": max(strain),
-            "fig3_030_sigma_min": min(sigma), "fig3_030_sigma_max": max(sigma)}
+def fig3_numbers(fig3, fig3_pp, grid):
+    """The fig. 3 studies' numbers, by name: the range of the peak strains
+    and strengths at sigma^pm = 0.3 sigma^p (bare contacts), and with
+    contacts of 0.3 sigma^p against the grid's bare ones at 0.95 sigma^p."""
+    out = {}
+    for name, study in (("fig3_030", fig3), ("fig3_pp", fig3_pp)):
+        strain = [r["strain_at_peak"] for r in study.rows]
+        sigma = [r["sigma_eff_over_sigma_unit"] for r in study.rows]
+        out.update({name + "_peak_min": min(strain), name + "_peak_max": max(strain),
+                    name + "_sigma_min": min(sigma), name + "_sigma_max": max(sigma)})
+    # against the run of the same sample (the grid's first packing) with bare contacts
+    bare = {(r["rho_m"], r["sigma_pm_ratio"]): r for r in grid.rows if r["study"] == GRID[0]}
+    gains = [r["sigma_eff_over_sigma_unit"] /
+             bare[(r["rho_m"], r["sigma_pm_ratio"])]["sigma_eff_over_sigma_unit"] - 1
+             for r in fig3_pp.rows]
+    out.update(fig3_pp_gain_min=min(gains), fig3_pp_gain_max=max(gains))
+    return out
 
 
 def increment_numbers(study):
@@ -656,7 +667,7 @@ def numbers(data=DATA):
     out.update(increment_numbers(Study((INCREMENT,), data)))
     out.update(grid_516_numbers(Study(GRID_516, data), grid, line))
     out.update(coating_numbers(Study(COATING, data)))
-    out.update(fig3_numbers(Study(FIG3, data)))
+    out.update(fig3_numbers(Study(FIG3, data), Study(FIG3_PP, data), grid))
     out.update(resolution_numbers())
     out.update(convergence_data.matched_numbers())
     return out
