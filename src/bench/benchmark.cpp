@@ -1,9 +1,9 @@
 #include "lem/bench/benchmark.hpp"
 
 #include "level_accounting.hpp"
-#include "rank_max.hpp"
 
 #include "lem/base/driver.hpp"
+#include "lem/base/collective.hpp"
 #include "lem/base/error.hpp"
 #include "lem/base/log.hpp"
 #include "lem/base/options.hpp"
@@ -32,7 +32,7 @@ double timed(MPI_Comm comm, F&& f) {
   MPI_Barrier(comm);
   const double t = MPI_Wtime();
   f();
-  return max_over(comm, MPI_Wtime() - t);
+  return max_over_ranks(comm, MPI_Wtime() - t);
 }
 
 double median(std::vector<double> v) {

@@ -1,8 +1,8 @@
 // Per-level accounting of the multigrid cycle and the two cycle precisions
 // side by side (lem_bench; lem/bench/benchmark.hpp).
 #include "level_accounting.hpp"
-#include "rank_max.hpp"
 
+#include "lem/base/collective.hpp"
 #include "lem/base/error.hpp"
 #include "lem/base/log.hpp"
 #include "lem/base/driver.hpp"
@@ -99,7 +99,7 @@ struct LoggedSolve {
   double delta(std::size_t k, bool count) const {
     const double d =
         count ? after[k].count - before[k].count : after[k].seconds - before[k].seconds;
-    return max_over(comm, d) * per;
+    return max_over_ranks(comm, d) * per;
   }
 };
 
@@ -114,7 +114,7 @@ LoggedSolve logged_solve(MPI_Comm comm, KSP ksp, Vec b, Vec x, PetscLogStage sta
   LEM_PETSC(PetscLogStagePush(stage));
   LEM_PETSC(KSPSolve(ksp, b, x));
   LEM_PETSC(PetscLogStagePop());
-  out.seconds = max_over(comm, MPI_Wtime() - t0);
+  out.seconds = max_over_ranks(comm, MPI_Wtime() - t0);
   out.after = snapshot(stage_name, levels);
   LEM_PETSC(KSPGetIterationNumber(ksp, &out.its));
   out.per = 1.0 / static_cast<double>(std::max<PetscInt>(out.its, 1));
@@ -200,7 +200,7 @@ void account_one_precision(MPI_Comm comm, const CycleUnderTest& c, bool single, 
   // its own, in the same stage: its own timer instead.)
   const double solve_ms = 1e3 * solve.seconds * per;
   const double pc_ms =
-      1e3 * (single ? max_over(comm, c.cycle.apply_seconds()) * per : solve.delta(0, false));
+      1e3 * (single ? max_over_ranks(comm, c.cycle.apply_seconds()) * per : solve.delta(0, false));
   double vector_ms = 0;  // CG's own vector operations and reductions
   for (std::size_t k = 2; k < kVectorEvents; ++k) vector_ms += 1e3 * solve.delta(k, false);
   std::vector<Row> rows = single ? single_cycle_rows(c.cycle, per)
@@ -251,9 +251,9 @@ PrecisionRuns alternate_precisions(MPI_Comm comm, const CycleUnderTest& c,
       const double t = MPI_Wtime();
       const std::clock_t cpu_start = std::clock();
       LEM_PETSC(KSPSolve(c.ksp, b, x));
-      const double seconds = max_over(comm, MPI_Wtime() - t);
+      const double seconds = max_over_ranks(comm, MPI_Wtime() - t);
       const double cpu =
-          max_over(comm, static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC);
+          max_over_ranks(comm, static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC);
       PetscInt n = 0;
       LEM_PETSC(KSPGetIterationNumber(c.ksp, &n));
       out.ms[single].push_back(1e3 * seconds / static_cast<double>(n));
@@ -271,7 +271,7 @@ PrecisionRuns alternate_precisions(MPI_Comm comm, const CycleUnderTest& c,
 
 void print_precisions(MPI_Comm comm, const PrecisionRuns& p, const SingleCycle& cycle) {
   const auto& ms = p.ms;
-  const double memory = max_over(comm, cycle.memory_bytes()) / 1e6;
+  const double memory = max_over_ranks(comm, cycle.memory_bytes()) / 1e6;
   const auto rss = peak_memory_per_rank_mb(comm);
   say("cycle precision (same preconditioner, %d alternating solves each):\n",
       static_cast<int>(ms[0].size()));

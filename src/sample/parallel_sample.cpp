@@ -3,6 +3,7 @@
 #include "lem/lattice/cell_lattice.hpp"
 #include "lem/base/error.hpp"
 #include "lem/base/exact_sum.hpp"
+#include "lem/base/collective.hpp"
 #include "lem/base/redistribute.hpp"
 #include "lem/lattice/voronoi.hpp"
 
@@ -59,14 +60,6 @@ NeighbourRows gather_neighbours(MPI_Comm comm, const SampleBlock& b) {
     std::sort(rows.items.begin() + rows.first[n], rows.items.begin() + rows.first[n + 1],
               [](const Neighbour& x, const Neighbour& y) { return x.other < y.other; });
   return rows;
-}
-
-/// The largest value over the ranks: a time written to the file must be the
-/// same on every rank.
-double max_over_ranks(MPI_Comm comm, double x) {
-  double m = x;
-  MPI_Allreduce(&x, &m, 1, MPI_DOUBLE, MPI_MAX, comm);
-  return m;
 }
 
 // The lattice of the block (the cells generator in the sample's box).
@@ -244,6 +237,7 @@ SampleBlock build_cemented_sample_block(MPI_Comm comm, const CementedSampleSpec&
   b.particle = std::move(own.particle);
   b.matrix = std::move(own.matrix);
   st.phases_seconds = MPI_Wtime() - t;
+  // a time written to the file must be the same on every rank
   st.packing_seconds = max_over_ranks(comm, st.packing_seconds);
   st.lattice_seconds = max_over_ranks(comm, st.lattice_seconds);
   st.voronoi_seconds = max_over_ranks(comm, st.voronoi_seconds);

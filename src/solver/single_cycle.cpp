@@ -3,6 +3,7 @@
 #include "float_operators.hpp"
 #include "petsc318_private.hpp"
 
+#include "lem/base/collective.hpp"
 #include "lem/base/error.hpp"
 #include "lem/base/options.hpp"
 
@@ -13,20 +14,6 @@
 #include <utility>
 
 namespace lem {
-namespace {
-
-double max_over(MPI_Comm comm, double v) {
-  double m = 0;
-  MPI_Allreduce(&v, &m, 1, MPI_DOUBLE, MPI_MAX, comm);
-  return m;
-}
-double sum_over(MPI_Comm comm, double v) {
-  double s = 0;
-  MPI_Allreduce(&v, &s, 1, MPI_DOUBLE, MPI_SUM, comm);
-  return s;
-}
-
-}  // namespace
 
 struct SingleCycle::Level {
   FloatBlockMatrix A, P, R;  // A: levels between the finest and the coarsest
@@ -314,8 +301,8 @@ std::vector<SingleCycle::LevelStats> SingleCycle::level_stats() const {
     s.visits = l.visits;
     s.products = l.products;
     s.transfers = l.transfers;
-    s.seconds = max_over(comm, l.seconds);
-    s.bytes = sum_over(comm, l.bytes);
+    s.seconds = max_over_ranks(comm, l.seconds);
+    s.bytes = sum_over_ranks(comm, l.bytes);
     out.push_back(s);
   }
   return out;
@@ -327,8 +314,8 @@ std::string SingleCycle::work_line() const {
   std::snprintf(line, sizeof line,
                 "single cycle: %.0f applications, %.3g s; %.0f refreshes: %.3g s reading bonds, "
                 "%.3g s probing smoothers",
-                applications_, max_over(comm, apply_seconds_), refreshes_,
-                max_over(comm, refresh_seconds_), max_over(comm, probe_seconds_));
+                applications_, max_over_ranks(comm, apply_seconds_), refreshes_,
+                max_over_ranks(comm, refresh_seconds_), max_over_ranks(comm, probe_seconds_));
   return line;
 }
 

@@ -137,6 +137,21 @@ inline std::int64_t sum_over_ranks(MPI_Comm comm, std::int64_t mine) {
   return total;
 }
 
+/// The sum of `mine` over the ranks, on every rank.
+inline double sum_over_ranks(MPI_Comm comm, double mine) {
+  double total = 0;
+  MPI_Allreduce(&mine, &total, 1, MPI_DOUBLE, MPI_SUM, comm);
+  return total;
+}
+
+/// The largest `mine` over the ranks, on every rank (a time: the slowest
+/// rank's).
+inline double max_over_ranks(MPI_Comm comm, double mine) {
+  double most = 0;
+  MPI_Allreduce(&mine, &most, 1, MPI_DOUBLE, MPI_MAX, comm);
+  return most;
+}
+
 /// Root's trivially copyable value on every rank.
 template <class T>
 void broadcast_value(MPI_Comm comm, T& value, int root = 0) {
