@@ -1,5 +1,4 @@
 #include "lem/solver/levers.hpp"
-#include "lem/solver/single_cycle.hpp"
 #include "lem/run/fracture_run.hpp"
 
 #include "lem/report/calibration.hpp"
@@ -82,11 +81,10 @@ Case run_case(Prepared p, const SolverOptions& solver, const FractureOptions& op
   check_unused_options(SolverStage::created);
   system.assemble();
   c.result = run_fracture(lattice, system, options, output, provenance);
-  // What the single-precision cycle spent, by stage (issue 67: how much of
-  // it goes to following K as it changes).
+  // What each lever spent, by stage (the single cycle: how much of it
+  // goes to following K as it changes).
   for (const SolverLever* lever : system.levers())
-    if (const auto* cycle = dynamic_cast<const SingleCycle*>(lever))
-      say("%s\n", cycle->work_line().c_str());
+    if (const std::string line = lever->work_line(); !line.empty()) say("%s\n", line.c_str());
   if (write_fields) {
     fault_pause(lattice.comm, "fields", "before the final fields");
     Summary s;

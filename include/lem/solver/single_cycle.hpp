@@ -89,7 +89,7 @@ class SingleCycle final : public WrappedLever {
   double probe_seconds() const { return probe_seconds_; }
   /// "single cycle: N applications, X s; R refreshes: Y s reading bonds,
   /// Z s probing smoothers", the seconds the most of any rank.  Collective.
-  std::string work_line() const;
+  std::string work_line() const override;
   void reset_stats();
   /// Bytes of this rank's float copies.
   double memory_bytes() const;

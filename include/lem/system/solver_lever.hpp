@@ -59,6 +59,9 @@ class SolverLever {
   /// The option of a lever that learns ("" if it learns nothing): what it
   /// learns depends on the rank count.
   virtual std::string learning_option() const { return ""; }
+  /// A line for the log at the end of a run: what the lever spent, by
+  /// stage ("" if it has nothing to say).  Collective.
+  virtual std::string work_line() const { return ""; }
 };
 
 /// A lever's registry entry.
