@@ -7,6 +7,8 @@
 #include "lem/base/error.hpp"
 #include "lem/setup/setup.hpp"
 
+#include "../compared_solves.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -18,19 +20,10 @@ using namespace lem;
 namespace {
 
 DistributedLattice random_problem(MPI_Comm comm, std::int64_t nodes) {
-  SetupReport report;
-  return setup_tension_lattice(
-      comm,
-      [&](SampleInfo& info) {
-        RandomLatticeSpec s;
-        s.nodes = nodes;
-        s.seed = 5;
-        Lattice l = make_random_lattice(s);
-        info.stats = lattice_stats(l);
-        info.affine = affine_moduli(l);
-        return l;
-      },
-      report);
+  RandomLatticeSpec s;
+  s.nodes = nodes;
+  s.seed = 5;
+  return distributed(comm, make_random_lattice(s));
 }
 
 // The options of a run, with the single cycle or without it, as

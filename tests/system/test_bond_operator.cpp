@@ -5,6 +5,7 @@
 #include "lem/base/error.hpp"
 #include "lem/setup/setup.hpp"
 
+#include "../compared_solves.hpp"
 #include "../exact_solver_test.hpp"
 
 #include <gtest/gtest.h>
@@ -17,19 +18,10 @@ using namespace lem;
 namespace {
 
 DistributedLattice random_problem(MPI_Comm comm, std::int64_t nodes) {
-  SetupReport report;
-  return setup_tension_lattice(
-      comm,
-      [&](SampleInfo& info) {
-        RandomLatticeSpec s;
-        s.nodes = nodes;
-        s.seed = 11;
-        Lattice l = make_random_lattice(s);
-        info.stats = lattice_stats(l);
-        info.affine = affine_moduli(l);
-        return l;
-      },
-      report);
+  RandomLatticeSpec s;
+  s.nodes = nodes;
+  s.seed = 11;
+  return distributed(comm, make_random_lattice(s));
 }
 
 // max |B x - K x| / max |K x| for an x that depends on the global row only.
