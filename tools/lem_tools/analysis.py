@@ -6,7 +6,7 @@ import warnings
 
 import numpy as np
 
-from .convergence import replicate_stats
+from .convergence import fit_line, replicate_stats
 
 RHO_FILLED = 0.28        # rho_f^m of eqs. 6-10 (paper: pores filled at 0.28)
 K_WEAKEST_LINK = 0.4     # eq. 13 frontier of fig. 15
@@ -16,17 +16,6 @@ MIN_TAIL_NODES = 20      # fewer nodes in the tail give no meaningful beta
 ZZ = 5                   # Tensor6 order xx, xy, xz, yy, yz, zz
 PDF_BINS = 80            # bins of the node-stress pdf (fig. 8)
 FACE_TOLERANCE = 1e-9    # a node this close to a box face (relative to the side) lies on it
-
-
-def straight_line(x, y):
-    """(slope, intercept) of y against x by least squares, from sums alone
-    (np.polyfit calls LAPACK, whose last bits depend on the BLAS loaded; the
-    fits of the figures and pages must not)."""
-    x = np.asarray(x, dtype=float)
-    y = np.asarray(y, dtype=float)
-    dx = x - np.mean(x)
-    slope = float(np.sum(dx * (y - np.mean(y))) / np.sum(dx * dx))
-    return slope, float(np.mean(y) - slope * np.mean(x))
 
 
 def tail_exponent(s, start=TAIL_START):
@@ -40,7 +29,7 @@ def tail_exponent(s, start=TAIL_START):
     hist, edges = np.histogram(tail, bins=30, range=(0, np.quantile(tail, 0.99)), density=True)
     centres = 0.5 * (edges[1:] + edges[:-1])
     ok = hist > 0
-    slope = straight_line(centres[ok], np.log(hist[ok]))[0] if ok.sum() > 3 else float("nan")
+    slope = fit_line(centres[ok], np.log(hist[ok]))["slope"] if ok.sum() > 3 else float("nan")
     return {"beta": beta_ml, "beta_histogram_fit": -slope, "tail_nodes": int(tail.size),
             "tail_start": start}
 

@@ -55,16 +55,22 @@ def fit_line(x, y, sigma=None):
     """y = intercept + slope x by least squares, weighted by 1 / sigma^2 if
     `sigma` is given.  Returns intercept, slope, their standard errors, chi^2
     (weighted residuals) and the degrees of freedom, or None with fewer than
-    two distinct x."""
+    two distinct x.  Sums and scalar arithmetic only (the 2 x 2 normal
+    equations solved by hand): a LAPACK solve would make the last digits
+    depend on the BLAS numpy loads, and the figures and pages drawn from the
+    fits must redraw the same with any (docs/notes/blas.md)."""
     x = np.asarray(x, dtype=float)
     y = np.asarray(y, dtype=float)
     if len(set(x.tolist())) < 2:
         return None
     w = np.ones_like(x) if sigma is None else 1.0 / np.asarray(sigma, dtype=float) ** 2
-    design = np.column_stack([np.ones_like(x), x])
-    normal = design.T @ (w[:, None] * design)
-    inverse = np.linalg.inv(normal)
-    intercept, slope = inverse @ (design.T @ (w * y))
+    sw, sx = np.sum(w), np.sum(w * x)
+    mean_x, mean_y = sx / sw, np.sum(w * y) / sw
+    sxx = np.sum(w * (x - mean_x) ** 2)
+    slope = np.sum(w * (x - mean_x) * (y - mean_y)) / sxx
+    intercept = mean_y - slope * mean_x
+    # the diagonal of the inverse of [[sw, sx], [sx, sum w x^2]]
+    inverse = np.array([1.0 / sw + mean_x ** 2 / sxx, 1.0 / sxx])
     residual = y - intercept - slope * x
     chi2 = float(np.sum(w * residual ** 2))
     dof = len(x) - 2
@@ -73,7 +79,7 @@ def fit_line(x, y, sigma=None):
         scale = chi2 / dof if dof > 0 else NAN
     else:
         scale = max(1.0, chi2 / dof) if dof > 0 else 1.0
-    se = np.sqrt(np.diag(inverse) * scale)
+    se = np.sqrt(inverse * scale)
     return {"intercept": float(intercept), "slope": float(slope),
             "intercept_se": float(se[0]), "slope_se": float(se[1]), "chi2": chi2, "dof": dof,
             "weighted": sigma is not None}

@@ -41,7 +41,8 @@ import numpy as np
 
 from . import cli
 from .analysis import (K_DAMAGE_LIMIT, K_WEAKEST_LINK, RHO_FILLED, fit_eq10, replicate_means,
-                       sample_means, straight_line)
+                       sample_means)
+from .convergence import fit_line
 from .errors import ToolError
 from .files import require_folder_path, write_json
 from .paper import paper_values
@@ -186,7 +187,8 @@ def fig05(samples, phases, res):
     rho = np.array([p["rho_m"] for p in samples])
     e = np.array([p["E_eff_over_E_unit"] for p in samples])
     if len(rho) > 1:
-        slope, intercept = straight_line(rho, e)
+        line = fit_line(rho, e)
+        slope, intercept = line["slope"], line["intercept"]
         xs = np.linspace(0, rho.max(), 20)
         ax.plot(xs, intercept + slope * xs, ":", color="tab:blue",
                 label=r"linear fit: %.3f + %.3f $\rho^m$" % (intercept, slope))

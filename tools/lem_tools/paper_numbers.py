@@ -26,7 +26,8 @@ import numpy as np
 from . import cli, convergence_data
 from .analysis import (converged_modulus, crossing, eq10_abscissa, eq10_residuals, fit_eq10,
                        eq14_frontier, group_by_rho, k_c_r_eq14, replicate_means,
-                       sample_means, straight_line)
+                       sample_means)
+from .convergence import fit_line
 from .errors import ToolError
 from .paper import CONVERGED_FIRST_STEP_MODULI, CONVERGED_MODULI, STRENGTH_516
 from .paper_figures import read_folders
@@ -69,9 +70,16 @@ class Study:
         self.points = replicate_means(self.rows, POINT_COLUMNS)
         self.samples = sample_means(self.rows)
 
+    def find(self, rho, ratio):
+        """The grid point (rho^m, sigma^pm / sigma^p), or None if not kept."""
+        found = [p for p in self.points
+                 if abs(p["rho_m"] - rho) < 1e-9 and abs(p["sigma_pm_ratio"] - ratio) < 1e-9]
+        return found[0] if found else None
+
     def point(self, rho, ratio):
-        (found,) = [p for p in self.points
-                    if abs(p["rho_m"] - rho) < 1e-9 and abs(p["sigma_pm_ratio"] - ratio) < 1e-9]
+        found = self.find(rho, ratio)
+        if found is None:
+            raise ToolError("no kept point at rho^m = %g, sigma^pm/sigma^p = %g" % (rho, ratio))
         return found
 
     def sample(self, rho):
@@ -84,9 +92,8 @@ def modulus_line(samples, start=0.0):
     """(intercept, slope) of E_eff/E^[p] against rho^m through the samples
     from rho^m = `start` up: fig. 5's dotted line (least squares)."""
     chosen = [s for s in samples if s["rho_m"] >= start - 1e-9]
-    slope, intercept = straight_line([s["rho_m"] for s in chosen],
-                                     [s["E_eff_over_E_unit"] for s in chosen])
-    return float(intercept), float(slope)
+    line = fit_line([s["rho_m"] for s in chosen], [s["E_eff_over_E_unit"] for s in chosen])
+    return line["intercept"], line["slope"]
 
 
 def strength_over_adhesion(points):
@@ -260,17 +267,13 @@ def grid_516_table(grid_516, grid):
     one, one row per point of the study file (pending: not yet run)."""
     rhos, ratios = (0.06, 0.13, 0.28), (0.2, 0.6, 1.4)
 
-    def near(points, rho, ratio):
-        found = [q for q in points
-                 if abs(q["rho_m"] - rho) < 1e-9 and abs(q["sigma_pm_ratio"] - ratio) < 1e-9]
-        return found[0] if found else None
-
-    def between(points, rho, ratio):
+    def between(rho, ratio):
         """The 64-particle point, linear in sigma^pm between its two
         neighbours where the grid has none (0.6 between 0.5 and 0.65)."""
-        if near(points, rho, ratio):
-            return near(points, rho, ratio)
-        row = sorted((q for q in points if abs(q["rho_m"] - rho) < 1e-9),
+        found = grid.find(rho, ratio)
+        if found:
+            return found
+        row = sorted((q for q in grid.points if abs(q["rho_m"] - rho) < 1e-9),
                      key=lambda q: q["sigma_pm_ratio"])
         lo = [q for q in row if q["sigma_pm_ratio"] < ratio][-1]
         hi = [q for q in row if q["sigma_pm_ratio"] > ratio][0]
@@ -291,7 +294,7 @@ def grid_516_table(grid_516, grid):
              "| n_b: 516 p | 64 p | n_b without bare contacts: 516 p | 64 p | solves (516 p) |", "|---|---|---|---|---|---|---|---|---|---|---|"]
     for rho in rhos:
         for ratio in ratios:
-            big, small = near(grid_516.points, rho, ratio), between(grid.points, rho, ratio)
+            big, small = grid_516.find(rho, ratio), between(rho, ratio)
             cells = ["%.3f" % big["sigma_eff_over_sigma_unit"] if big else "pending",
                      mean_sd(small, "sigma_eff_over_sigma_unit", 3),
                      strain_text(big["strain_at_peak"]) if big else "–",
