@@ -629,18 +629,22 @@ def test_falls_name_the_steps_they_cover():
 
 
 @pytest.mark.long  # draws both studies' figures: 10-20 s
-@pytest.mark.parametrize("folders, out", [
-    (("paper-64", "paper-64-packings"), "paper-64"), (("paper-516-line",), "paper-516-line"),
-    (("coating-64",), "coating-64"), (("fig3-64",), "fig3-64"),
-    (("fig3-pp-64",), "fig3-pp-64")])
-def test_the_committed_figures_redraw_byte_for_byte(tmp_path, folders, out):
+@pytest.mark.parametrize("folders, out, beside", [
+    (("paper-64", "paper-64-packings"), "paper-64", ()),
+    (("paper-516-line",), "paper-516-line", ()),
+    (("paper-516-grid", "paper-516-line"), "paper-516-grid", ("paper-64", "paper-64-packings")),
+    (("coating-64",), "coating-64", ()), (("fig3-64",), "fig3-64", ()),
+    (("fig3-pp-64",), "fig3-pp-64", ())])
+def test_the_committed_figures_redraw_byte_for_byte(tmp_path, folders, out, beside):
     """docs/figures/<study>/ is what tools/paper_figures.py draws from the
     committed rows, to the byte (the same packages: matplotlib writes its
     version into the PNGs)."""
     from lem_tools import paper_figures
 
+    def data(names):
+        return [os.path.join(ROOT, "docs", "data", f) for f in names]
     drawn = str(tmp_path / out)
-    paper_figures.draw_folders([os.path.join(ROOT, "docs", "data", f) for f in folders], drawn)
+    paper_figures.draw_folders(data(folders), drawn, data(beside))
     committed = os.path.join(ROOT, "docs", "figures", out)
     assert sorted(os.listdir(drawn)) == sorted(os.listdir(committed))
     differ = []
@@ -649,8 +653,8 @@ def test_the_committed_figures_redraw_byte_for_byte(tmp_path, folders, out):
                                                               "rb") as b:
             mine, theirs = a.read(), b.read()
         if name == "fit.json":   # the folders as given on the command line aside
-            mine, theirs = ({k: v for k, v in json.loads(t).items() if k != "folders"}
-                            for t in (mine, theirs))
+            mine, theirs = ({k: v for k, v in json.loads(t).items()
+                             if k not in ("folders", "beside")} for t in (mine, theirs))
         if mine != theirs:
             differ.append(name)
     assert not differ, "redraw docs/figures/%s: %s differ" % (out, ", ".join(differ))

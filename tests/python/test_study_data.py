@@ -363,6 +363,47 @@ def test_a_row_of_another_study_is_refused(tiny_copy, tmp_path):
     assert not os.path.exists(out)
 
 
+def test_studies_of_other_phases_are_not_drawn_beside(tmp_path, capsys):
+    """--beside draws another resolution of the same physics only: studies
+    with another sigma^pp are refused naming the phases, and nothing is
+    drawn."""
+    from lem_tools import paper_figures
+
+    data = os.path.join(ROOT, "docs", "data")
+    out = str(tmp_path / "figures")
+    status = paper_figures.main([os.path.join(data, "fig3-64"), "--out", out,
+                                 "--beside", os.path.join(data, "fig3-pp-64")])
+    err = capsys.readouterr().err
+    assert status == 1
+    assert "--beside %s differs in its phases" % os.path.join(data, "fig3-pp-64") in err, err
+    assert "sigma_pp" in err
+    assert not os.path.exists(out)
+
+
+def test_beside_points_are_drawn_at_the_shared_matrix_fractions():
+    """The 64-particle grid drawn beside the 516-particle line: one open
+    series per matrix fraction the line has, at the 64-particle values."""
+    from lem_tools import paper_figures
+    from lem_tools.plotting import plt
+
+    data = os.path.join(ROOT, "docs", "data")
+    drawn, _, points, _ = paper_figures.figures(
+        [os.path.join(data, "paper-516-line")], [os.path.join(data, "paper-64")])
+    ax = drawn["fig09"].axes[0]
+    open_lines = [line for line in ax.get_lines()
+                  if isinstance(line.get_markerfacecolor(), str)
+                  and line.get_markerfacecolor() == "white"]
+    rhos = {p["rho_m"] for p in points}
+    assert len(open_lines) == len(rhos) == 8
+    grid = [json.load(open(os.path.join(data, "paper-64", "runs", f)))["row"]
+            for f in sorted(os.listdir(os.path.join(data, "paper-64", "runs")))]
+    at_028 = sorted((r["sigma_pm_ratio"], r["sigma_eff_over_sigma_unit"]) for r in grid
+                    if r["rho_m"] == 0.28)
+    assert any(np.allclose(line.get_xydata(), at_028) for line in open_lines)
+    for fig in drawn.values():
+        plt.close(fig)
+
+
 def test_a_row_under_another_runs_name_is_refused(tiny_copy, tmp_path, capsys):
     path = os.path.join(tiny_copy, "runs", DRAWN_RUN + ".json")
     shutil.copy(os.path.join(tiny_copy, "runs", "p1_rho_0.0600_spm_0.2000.json"), path)

@@ -32,7 +32,10 @@ anything:
              eq. 13 (columns); 0.7 and 0.4 marked
 A grid point with several runs (other packings or lattice seeds) is drawn
 as their mean with +-1 standard deviation as error bars; every figure says
-its resolution in its subtitle.  Default OUT_DIR: docs/figures/<study name
+its resolution in its subtitle.  With --beside, the studies of another
+resolution (the same phases and stop rule) are drawn beside them on
+figs. 9, 12 (a), 14 and 16, open markers and dashed lines at the matrix
+fractions the folders share.  Default OUT_DIR: docs/figures/<study name
 of the first folder>/ of this repository.
 """
 import os
@@ -40,8 +43,8 @@ import os
 import numpy as np
 
 from . import cli
-from .analysis import (K_DAMAGE_LIMIT, K_WEAKEST_LINK, RHO_FILLED, fit_eq10, replicate_means,
-                       sample_means)
+from .analysis import (K_DAMAGE_LIMIT, K_WEAKEST_LINK, RHO_FILLED, eq10_abscissa, fit_eq10,
+                       group_by_rho, replicate_means, sample_means)
 from .convergence import fit_line
 from .errors import ToolError
 from .files import require_folder_path, write_json
@@ -68,16 +71,29 @@ STRAIN_SCALE = 1e3
 
 def same_physics(spec):
     """What must agree between the folders drawn together: physics() of the
-    study without the seeds, which only choose the replicate."""
+    study without the seeds, which only choose the replicate, and without
+    the strain cap, which only bounds how far a run may go (a run that
+    stopped at it says so in its end_reason)."""
     out = physics(spec)
     out["sample"] = {k: v for k, v in out["sample"].items() if k not in SEEDS}
+    out["fracture"] = {k: v for k, v in out["fracture"].items()
+                       if k != "fracture_max_strain_ratio"}
     return out
 
 
+def comparable(spec):
+    """What must agree between the folders drawn and those drawn beside
+    them at another resolution: the phases and the stop rule."""
+    physics_of = same_physics(spec)
+    return {"phases": physics_of["phases"],
+            "stop rule": physics_of["fracture"].get("fracture_stop_fraction")}
+
+
 def read_folders(folders):
-    """(phases, rows, kept) of the data folders: rows as results.csv has
-    them with `study` and `lattice` (study name / lattice tag: one sample
-    per lattice and rho^m), kept {row id: the run's data}."""
+    """(spec, rows, kept) of the data folders: the first folder's study,
+    rows as results.csv has them with `study` and `lattice` (study name /
+    lattice tag: one sample per lattice and rho^m), kept {row id: the run's
+    data}."""
     first, rows, kept, seen = None, [], {}, {}
     for folder in folders:
         data, spec = open_data_folder(folder)
@@ -106,7 +122,36 @@ def read_folders(folders):
             kept[row["id"]] = d
     if not rows:
         raise ToolError("no row in %s: run the studies with --data first" % ", ".join(folders))
-    return first["phases"], rows, kept
+    return first, rows, kept
+
+
+def read_beside(folders, spec):
+    """{points, resolution} of the studies drawn beside those of `spec` at
+    another resolution (None without folders)."""
+    if not folders:
+        return None
+    theirs, rows, kept = read_folders(folders)
+    for part, wanted in comparable(spec).items():
+        if comparable(theirs)[part] != wanted:
+            raise ToolError("--beside %s differs in its %s: %s against %s"
+                            % (folders[0], part, comparable(theirs)[part], wanted))
+    return {"points": replicate_means(rows, COLUMNS), "resolution": resolution(rows, kept)}
+
+
+def draw_beside(ax, points, beside, y, x="sigma_pm_ratio", place=None):
+    """`beside`'s `y` against `x` (or place(point)) at the matrix fractions
+    of `points`, in their colours: open markers on dashed lines."""
+    if not beside:
+        return
+    colors = point_colors(points)
+    label = "open, dashed: %s particles" % beside["resolution"]["sample_particles"]
+    for rho, ps in group_by_rho(beside["points"]).items():
+        near = [r for r in colors if abs(r - rho) < 1e-9]
+        ps = [p for p in ps if place or p.get(x) is not None]
+        if near and ps:
+            values(ax, [place(p) if place else p[x] for p in ps], ps, y, "o--",
+                   color=colors[near[0]], mfc="white", alpha=0.7, label=label)
+            label = None
 
 
 def resolution(rows, kept):
@@ -253,9 +298,10 @@ def fig08(points, samples, kept, phases, res):
     return finish(fig, res)
 
 
-def fig09(points, res):
+def fig09(points, res, beside=None):
     fig, ax = single("")
     strength_panel(ax, points)
+    draw_beside(ax, points, beside, "sigma_eff_over_sigma_unit")
     ax.axhline(1.0, ls="--", color="black", lw=1,
                label=r"$\sigma^{[p]}$: the paper's $\sigma_{\rm eff}$ at $\rho^m$ = 0.28, "
                      r"$\sigma^{pm} > \sigma^p$ is slightly above it (sect. 5)")
@@ -279,9 +325,11 @@ def fig11(rows, kept, res):
     return finish(fig, res)
 
 
-def fig12(points, fit, res):
+def fig12(points, fit, res, beside=None):
     fig, (a, b) = plt.subplots(1, 2, figsize=(12, 5.4))
     scaling_panel(a, points, fit, k=PAPER_K)
+    draw_beside(a, points, beside, "sigma_eff_over_sigma_pm",
+                place=lambda p: float(eq10_abscissa(p["rho_m"], PAPER_K)))
     right = a.get_xlim()[1]
     xs = np.linspace(0, right, 10)
     a.plot(xs, PAPER_A * xs, "-.", color="tab:red",
@@ -304,11 +352,12 @@ def fig13(points, kept, res):
     return finish(fig, res)
 
 
-def fig14(points, res):
+def fig14(points, res, beside=None):
     fig, axes = plt.subplots(1, 2, figsize=(12, 5.4))
     fig.suptitle(r"damage after failure against $\sigma^{pm}$ (paper fig. 14)")
     for ax, quantity, letter in zip(axes, N_B_LABELS, "ab"):
         damage_panel(ax, points, quantity=quantity)
+        draw_beside(ax, points, beside, quantity)
         ax.axvline(K_WEAKEST_LINK, ls="--", color="tab:red",
                    label=r"paper: onset at $\sigma^{pm}/\sigma^p \approx$ %.1f (eq. 13)"
                    % K_WEAKEST_LINK)
@@ -328,11 +377,13 @@ def fig15(points, samples, phases, res):
     return finish(fig, res)
 
 
-def fig16(points, phases, res):
+def fig16(points, phases, res, beside=None):
     """n_b both ways (rows) against K_c^r of eq. 14 with the samples' E_eff,
     of eq. 14 with E_eff at L_n -> 0 (the paper's phases only) and of eq. 13
     (columns)."""
     points = with_converged_k(points, phases)
+    if beside:
+        beside = dict(beside, points=with_converged_k(beside["points"], phases))
     converged = any(p["K_c_r_eq14_converged"] is not None for p in points)
     fig, axes = plt.subplots(2, 3, figsize=(17, 10))
     abscissae = (("K_c_r_eq14", r"$K_c^r$ of eq. 14, the samples' $E_{\rm eff}$",
@@ -351,6 +402,7 @@ def fig16(points, phases, res):
                         transform=ax.transAxes, ha="center", va="center")
                 continue
             damage_panel(ax, points, column, quantity)
+            draw_beside(ax, points, beside, quantity, x=column)
             ax.axvline(limit, ls=style, color=color, label="paper: %s $K_c^r$ = %.1f (eq. %d)"
                        % (says, limit, 14 if limit == K_DAMAGE_LIMIT else 13))
             ax.legend(fontsize=7)
@@ -358,32 +410,40 @@ def fig16(points, phases, res):
     return finish(fig, res)
 
 
-def figures(folders):
-    """{name: figure} of the data `folders`, and what they are drawn from:
-    the rows, the grid points and the fit of eq. 10."""
-    phases, rows, kept = read_folders(folders)
+def figures(folders, beside_folders=()):
+    """{name: figure} of the data `folders` (with `beside_folders` drawn
+    beside them), and what they are drawn from: the rows, the grid points
+    and the fit of eq. 10."""
+    spec, rows, kept = read_folders(folders)
+    phases = spec["phases"]
+    beside = read_beside(beside_folders, spec)
     points = replicate_means(rows, COLUMNS)
     samples = sample_means(rows)
     fit = fit_eq10([p["rho_m"] for p in points], [p["sigma_eff_over_sigma_pm"] for p in points])
     res = resolution(rows, kept)
+    res_beside = dict(res, beside=beside["resolution"]) if beside else res
     drawn = {"fig03": fig03(points, kept, res, phases), "fig05": fig05(samples, phases, res),
-             "fig08": fig08(points, samples, kept, phases, res), "fig09": fig09(points, res),
-             "fig11": fig11(rows, kept, res), "fig12": fig12(points, fit, res),
-             "fig13": fig13(points, kept, res), "fig14": fig14(points, res),
-             "fig15": fig15(points, samples, phases, res), "fig16": fig16(points, phases, res)}
+             "fig08": fig08(points, samples, kept, phases, res),
+             "fig09": fig09(points, res_beside, beside), "fig11": fig11(rows, kept, res),
+             "fig12": fig12(points, fit, res_beside, beside), "fig13": fig13(points, kept, res),
+             "fig14": fig14(points, res_beside, beside),
+             "fig15": fig15(points, samples, phases, res),
+             "fig16": fig16(points, phases, res_beside, beside)}
     record = {"folders": list(folders), "eq10": fit, "runs": len(rows), "points": len(points),
               "beta_by_rho_m": {"%.4f" % p["rho_m"]: p["beta"] for p in samples},
               "interface_ratio_by_rho_m": {
                   "%.4f" % p["rho_m"]: p["interface_ratio_Spm_Sp"]
                   for p in sample_points(rows, kept, "interface_ratio_Spm_Sp")},
               "figures": res}
+    if beside:
+        record["beside"] = list(beside_folders)
     return drawn, rows, points, record
 
 
-def draw_folders(folders, out):
-    """results.csv, fit.json and fig*.png of the data `folders` in `out`;
-    returns the PNG paths."""
-    drawn, rows, _, record = figures(folders)
+def draw_folders(folders, out, beside_folders=()):
+    """results.csv, fit.json and fig*.png of the data `folders` (and
+    `beside_folders` beside them) in `out`; returns the PNG paths."""
+    drawn, rows, _, record = figures(folders, beside_folders)
     os.makedirs(out, exist_ok=True)
     write_table(os.path.join(out, "results.csv"), rows, ("study", "lattice") + STUDY_COLUMNS)
     write_json(os.path.join(out, "fit.json"), record)
@@ -398,7 +458,7 @@ def run(args):
     out = args.out or os.path.join(ROOT, "docs", "figures",
                                    DataFolder(args.folders[0]).spec().get("name", "study"))
     require_folder_path(out, "the figures' folder (--out)")
-    paths = draw_folders(args.folders, out)
+    paths = draw_folders(args.folders, out, args.beside or ())
     print("paper_figures: %d figures, results.csv and fit.json -> %s" % (len(paths), out))
 
 
@@ -408,4 +468,7 @@ def main(argv=None):
                             help="data folders of studies (tools/study.py ... --data DATA_DIR)")
     arg_parser.add_argument("--out", metavar="OUT_DIR",
                             help="where the figures go (default: docs/figures/<study name>)")
+    arg_parser.add_argument("--beside", metavar="DATA_DIR", nargs="+",
+                            help="data folders of studies at another resolution, drawn beside "
+                                 "on figs. 9, 12 (a), 14 and 16")
     return cli.run(arg_parser, run, argv)

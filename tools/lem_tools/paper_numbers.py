@@ -66,7 +66,8 @@ class Study:
     the packings) and `samples` (one per rho^m: first-step modulus, beta)."""
 
     def __init__(self, names, data=DATA):
-        self.phases, self.rows, self.kept = read_folders([os.path.join(data, n) for n in names])
+        spec, self.rows, self.kept = read_folders([os.path.join(data, n) for n in names])
+        self.phases = spec["phases"]
         self.points = replicate_means(self.rows, POINT_COLUMNS)
         self.samples = sample_means(self.rows)
 

@@ -87,6 +87,9 @@ def resolution_text(resolution):
     else:
         parts.append(r"%s samples per $\rho^m$ (seeds): mean ± standard deviation"
                      % (high if low == high else "%d–%d" % (low, high)))
+    if resolution.get("beside"):
+        return "%s; open markers, dashed: %s" % (", ".join(parts),
+                                                 resolution_text(resolution["beside"]))
     return ", ".join(parts)
 
 
