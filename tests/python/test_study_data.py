@@ -229,7 +229,7 @@ KEPT = [("tiny-grid", True), ("paper-64", True), ("paper-64-packings", False),
         ("increment-64-x0.5", False), ("increment-64-x1", False), ("increment-64-x2", False),
         ("increment-64-x4", False), ("increment-516-x0.5", True), ("increment-516-x1", True),
         ("increment-516-x2", True), ("increment-516-x4", True), ("paper-516-line", True),
-        ("paper-516-grid", False), ("coating-64", True), ("fig3-64", True), ("fig3-pp-64", True)]
+        ("paper-516-grid", False), ("coating-64", True), ("coating-516", False), ("fig3-64", True), ("fig3-pp-64", True)]
 
 
 def test_every_data_folder_is_listed():
