@@ -214,6 +214,36 @@ Repeats repeat_solves(MPI_Comm comm, ElasticSystem& sys, Vec x, Vec b, std::int6
   return out;
 }
 
+// The preconditioner of the last repeat applied to one random column and
+// to `columns` at once (PCMatApply: one MatMatSolve for a factorization,
+// column by column otherwise): the cost of a column of a low-rank update
+// to a factorization against a solve with it (docs/benchmarks-solver.md).
+struct BlockApply {
+  std::int64_t columns = 0;
+  double one_s = 0, block_s = 0;
+};
+
+BlockApply measure_block_apply(MPI_Comm comm, KSP ksp, Mat K, std::int64_t columns) {
+  BlockApply out;
+  out.columns = columns;
+  if (columns <= 0) return out;
+  PC pc;
+  LEM_PETSC(KSPGetPC(ksp, &pc));
+  PetscInt rows = 0;
+  LEM_PETSC(MatGetLocalSize(K, &rows, nullptr));
+  MatHandle B, X;
+  LEM_PETSC(MatCreateDense(comm, rows, PETSC_DECIDE, PETSC_DETERMINE,
+                           static_cast<PetscInt>(columns), nullptr, B.replace()));
+  LEM_PETSC(MatSetRandom(B, nullptr));
+  LEM_PETSC(MatDuplicate(B, MAT_DO_NOT_COPY_VALUES, X.replace()));
+  VecHandle b, x;
+  LEM_PETSC(MatCreateVecs(K, x.replace(), b.replace()));
+  LEM_PETSC(VecSetRandom(b, nullptr));
+  out.one_s = timed(comm, [&] { LEM_PETSC(PCApply(pc, b, x)); });
+  out.block_s = timed(comm, [&] { LEM_PETSC(PCMatApply(pc, B, X)); });
+  return out;
+}
+
 // The time of one product y = A x, the mean of `count`.
 double product_seconds(MPI_Comm comm, Mat A, Vec x, Vec y, std::int64_t count) {
   return timed(comm,
@@ -338,6 +368,7 @@ struct Figures {
   BondProduct bonds;
   SideBySide cg;
   MessageCounts messages;
+  BlockApply block;
   double stream = 0;
 };
 
@@ -399,6 +430,12 @@ void print_figures(const Figures& f) {
       median(cg.cg_ms[0]) / median(cg.cg_ms[1]));
   say("STREAM triad: %.2f GB/s aggregate over %d ranks (3 x %.0f MB per rank)\n", f.stream, f.ranks,
       f.stream_mb);
+  if (f.block.columns > 0)
+    say("block apply (PCMatApply): %lld columns at once %.3f s, %.4f s a column, against "
+        "%.4f s for one application: a column costs 1/%.1f of it\n",
+        static_cast<long long>(f.block.columns), f.block.block_s,
+        f.block.block_s / static_cast<double>(f.block.columns), f.block.one_s,
+        f.block.one_s * static_cast<double>(f.block.columns) / f.block.block_s);
   const MessageCounts& m = f.messages;
   say("per CG iteration and rank: %.1f messages (max %.1f), %.3g bytes sent (max %.3g), "
       "%.1f reductions\n",
@@ -494,6 +531,7 @@ void run_tension_benchmark(MPI_Comm comm, SampleOptions sample, const BenchOptio
   LEM_PETSC(MatCreateVecs(K, x.replace(), b.replace()));
   reproduce_right_hand_side(*sys, x, b);
   f.repeats = repeat_solves(comm, *sys, x, b, bench.repeat);
+  f.block = measure_block_apply(comm, ksp, K, bench.block_columns);
   f.assembled = measure_assembled(comm, K, x, b, bench.matmults);
   // The bond operator on the same x, and the same solve with each operator
   // in turn, both with the preconditioner of the last repeat (not rebuilt:

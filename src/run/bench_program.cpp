@@ -31,6 +31,12 @@ BenchOptions read_bench_options(MPI_Comm comm, const SampleOptions& sample) {
       g.integer("-bench_matmult", "Fine-level MatMults timed", bench.matmults, 1, 10000);
   bench.stream_mb = g.real("-bench_stream_mb", "STREAM array size per rank (MB, x3 arrays)",
                            bench.stream_mb, 1.0, 1e5);
+  bench.block_columns = g.integer(
+      "-bench_block_columns",
+      "Also apply the preconditioner to this many random columns at once (PCMatApply: one "
+      "MatMatSolve for a factorization) and to one, and print the cost per column: what a "
+      "column of a low-rank update to a factorization costs (0: not measured)",
+      0, 0, 100000);
   bench.voronoi_nodes = g.integer("-bench_voronoi",
                                   "Time voronoi_volumes() on a random "
                                   "lattice of this many nodes instead (0: the tension "

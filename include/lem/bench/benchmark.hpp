@@ -32,6 +32,7 @@ struct BenchOptions {
   std::int64_t matmults = 20;      // fine-level products timed
   double stream_mb = 80;           // STREAM array size per rank (MB, x3 arrays)
   std::int64_t voronoi_nodes = 0;  // > 0: time voronoi_volumes() on this many nodes instead
+  std::int64_t block_columns = 0;  // > 0: the preconditioner applied to this many columns at once
 };
 
 /// The tension benchmark of `sample` (a generated lattice of bench.bonds,
