@@ -28,6 +28,8 @@ set(LEM_LONG_TESTS
   fracture_decided_closing        # FractureParts.DecidedBatch*, SolveStoppedOnceDecided* (the certificate), fracture_fidelity_mini
   fracture_gold_main              # fracture_fidelity_mini, fracture_ranks_reference (1 rank: fracture_ranks)
   fracture_gold_main_np2          # fracture_fidelity_mini (the main job as run, against the same gold), fracture_ranks_reference
+  fracture_gold_main_direct_tail  # test_direct_tail_np2 (the route's solves equal the multigrid's)
+  fracture_reference_direct_tail  # test_direct_tail_np2
   fracture_ranks_mini             # fracture_ranks, fracture_fidelity_mini
   fracture_ranks_mini_reference   # fracture_ranks_reference
   fracture_ranks_sample_tiny      # fracture_certificate

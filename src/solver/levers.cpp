@@ -2,9 +2,11 @@
 // put around the multigrid (the first innermost).  The single-precision
 // cycle copies the multigrid's own levels, so it comes first; the damage
 // aggregates, which need GAMG itself too, then refuse to be chosen with it.
+// The direct route comes last: while it is taken it replaces all the others.
 #include "lem/solver/levers.hpp"
 
 #include "damage_aggregates.hpp"
+#include "direct_tail.hpp"
 #include "particle_deflation.hpp"
 #include "ritz_deflation.hpp"
 
@@ -21,6 +23,7 @@ void register_solver_levers() {
   register_solver_lever(DamageAggregates::entry());
   register_solver_lever(ParticleDeflation::entry());
   register_solver_lever(RitzDeflation::entry());
+  register_solver_lever(DirectTail::entry());
 }
 
 }  // namespace lem

@@ -6,6 +6,7 @@
 //   lem_damage_aggregates   -solver_damage_aggregates N   GAMG's aggregates split near cracks
 //   lem_particle_deflation  -solver_particle_deflation    rigid modes of every particle
 //   lem_ritz_deflation      -solver_ritz_deflation N      slow Ritz vectors learnt from solves
+//   lem_direct_tail         -solver_direct_tail N         a factor of K with low-rank updates, when CG is slow
 //
 // A lever of one's own is one file with a SolverLever and its entry, and one
 // call of register_solver_lever() before the options are read
