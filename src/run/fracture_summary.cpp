@@ -143,7 +143,7 @@ SummaryTable<R> closing_entries() {
        [](const R& r) { return r.warnings; }},
       {"resumed", "", "1 if the run resumed from a checkpoint",
        [](const R& r) { return summary_count(r.result.resumed); }},
-      {"seconds", "s", "wall time (of the last part for a resumed run)",
+      {"seconds", "s", "wall time, the parts of a resumed run added",
        [](const R& r) { return r.result.seconds; }},
       {"peak_memory_mb", "MB", "the largest peak resident memory of a rank (of the last part)",
        [](const R& r) { return r.memory.max_mb; }},
