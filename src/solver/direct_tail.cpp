@@ -2,6 +2,7 @@
 
 #include "lem/base/collective.hpp"
 #include "lem/base/error.hpp"
+#include "lem/base/log.hpp"
 #include "lem/system/tension.hpp"
 
 #include <algorithm>
@@ -91,7 +92,7 @@ void DirectTail::prepare(Vec b, Vec u) {
     route_seconds_ = 0;
     route_solves_ = 0;
     direct_ = true;
-    factor();
+    factor_or_leave();
   } else if (direct_ && want_multigrid()) {
     route_cost_ = route_seconds_ / route_solves_;
     release();
@@ -101,7 +102,7 @@ void DirectTail::prepare(Vec b, Vec u) {
   if (direct_ && !solution_) LEM_PETSC(VecDuplicate(b, solution_.replace()));
   int solved = 0;
   if (direct_ && !stale_factor_ && changed_) solved = update(b);
-  if (direct_ && (stale_factor_ || solved < 0)) factor();
+  if (direct_ && (stale_factor_ || solved < 0)) factor_or_leave();
   changed_ = false;
   applications_ = 0;
   solve_start_ = MPI_Wtime();
@@ -170,6 +171,18 @@ void DirectTail::factor() {
   factor_seconds_ += seconds;
   route_seconds_ += seconds;
   ++factorizations_;
+}
+
+// A factorization that fails (MUMPS out of memory, say) ends the route for
+// the rest of the run: the multigrid carries on, with a warning.
+void DirectTail::factor_or_leave() {
+  try {
+    factor();
+  } catch (const std::exception& e) {
+    release();
+    trigger_ = 0;
+    say_warning("-solver_direct_tail: %s; the run goes on with the multigrid alone\n", e.what());
+  }
 }
 
 void DirectTail::release() {

@@ -72,6 +72,7 @@ class DirectTail final : public WrappedLever {
   bool want_route() const;
   bool want_multigrid() const;
   void factor();
+  void factor_or_leave();
   void release();
   /// Adds the bonds changed since the factor (or the last update) as
   /// columns, solving for b in the same pass over the factor (solution_
