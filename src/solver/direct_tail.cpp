@@ -62,7 +62,7 @@ void DirectTail::wrapped(const LeverSite& site) {
   PetscBool solver = PETSC_FALSE, for_type = PETSC_FALSE;
   LEM_PETSC(
       MatSolverTypeGet(MATSOLVERMUMPS, type, MAT_FACTOR_CHOLESKY, &solver, &for_type, nullptr));
-  if (trigger_ > 0 && !(solver && for_type))
+  if (!(solver && for_type))
     throw InputError(std::string("option -solver_direct_tail needs PETSc built with MUMPS (a "
                                  "Cholesky factorization of ") +
                      type + " matrices); this PETSc has none");
@@ -286,8 +286,8 @@ bool DirectTail::add_columns(const std::vector<std::pair<std::int64_t, double>>&
     const int m = m0 + p;
     std::vector<double> G(static_cast<std::size_t>(m) * p);
     for (int j = 0; j < p; ++j)
-      project(x + static_cast<std::size_t>(j) * lda, G.data() + static_cast<std::size_t>(j) * m, 0,
-              m);
+      project(x + static_cast<std::size_t>(j) * lda, G.data() + static_cast<std::size_t>(j) * m);
+    MPI_Allreduce(MPI_IN_PLACE, G.data(), m * p, MPI_DOUBLE, MPI_SUM, l.comm);
     LEM_PETSC(MatDenseRestoreArrayRead(X, &x));
     for (int j = 0; j < p && ok; ++j) {
       const int r = m0 + j;
@@ -320,13 +320,12 @@ bool DirectTail::add_columns(const std::vector<std::pair<std::int64_t, double>>&
   return ok;
 }
 
-void DirectTail::project(const PetscScalar* x, double* t, int first, int count) const {
-  for (int j = 0; j < count; ++j) {
+void DirectTail::project(const PetscScalar* x, double* t) const {
+  for (int j = 0; j < columns(); ++j) {
     double s = 0;
-    for (const auto& [dof, value] : g_[first + j]) s += value * x[dof];
+    for (const auto& [dof, value] : g_[j]) s += value * x[dof];
     t[j] = s;
   }
-  MPI_Allreduce(MPI_IN_PLACE, t, count, MPI_DOUBLE, MPI_SUM, lattice_->comm);
 }
 
 void DirectTail::solve_capacitance(std::vector<double>& t) const {
@@ -356,7 +355,8 @@ void DirectTail::correct(Vec z) {
   std::vector<double> t(m);
   PetscScalar* y = nullptr;
   LEM_PETSC(VecGetArray(z, &y));
-  project(y, t.data(), 0, m);
+  project(y, t.data());
+  MPI_Allreduce(MPI_IN_PLACE, t.data(), m, MPI_DOUBLE, MPI_SUM, lattice_->comm);
   solve_capacitance(t);
   for (int j = 0; j < m; ++j) {
     const double* column = Z_.data() + static_cast<std::size_t>(j) * dofs_;

@@ -57,12 +57,9 @@ class DirectTail final : public WrappedLever {
   void after_solve() override;
   std::string work_line() const override;
 
-  /// Whether the next applications use the factor (for tests).
-  bool direct() const { return direct_; }
+ private:
   /// Broken bonds carried by the low-rank update now.
   int columns() const { return static_cast<int>(delta_.size()); }
-
- private:
   friend class WrappedLever;
   void wrapped(const LeverSite& site) override;
   static PetscErrorCode apply(PC pc, Vec r, Vec z);
@@ -80,8 +77,9 @@ class DirectTail final : public WrappedLever {
   /// factor must be made again instead.
   int update(Vec b);
   bool add_columns(const std::vector<std::pair<std::int64_t, double>>& bonds, Vec b);
-  /// t_j = g_j^T x for every column j (x: the owned dofs), summed over ranks.
-  void project(const PetscScalar* x, double* t, int first, int count) const;
+  /// t_j = g_j^T x over the owned dofs, for every column j: this rank's
+  /// part (the caller sums over the ranks).
+  void project(const PetscScalar* x, double* t) const;
   void solve_capacitance(std::vector<double>& t) const;  // t = C^-1 t
 
   const DistributedLattice* lattice_ = nullptr;
