@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <string>
 
 namespace lem {
@@ -101,6 +102,40 @@ PeakMemory peak_memory(MPI_Comm comm) {
   m.max_mb = *std::max_element(all.begin(), all.end());
   for (const double mb : all) m.mean_mb += mb / static_cast<double>(all.size());
   return m;
+}
+
+namespace {
+// MemAvailable of this machine in bytes (0 if unknown).
+double available_memory() {
+  std::ifstream in("/proc/meminfo");
+  std::string key, unit;
+  double kb = 0;
+  while (in >> key >> kb >> unit)
+    if (key == "MemAvailable:") return kb * 1024.0;
+  return 0;
+}
+}  // namespace
+
+MachineMemory tightest_machine(MPI_Comm comm, double bytes) {
+  int rank = 0, machine_rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm machine = MPI_COMM_NULL;
+  MPI_Comm_split_type(comm, MPI_COMM_TYPE_SHARED, rank, MPI_INFO_NULL, &machine);
+  MachineMemory m;
+  MPI_Comm_size(machine, &m.ranks);
+  MPI_Comm_rank(machine, &machine_rank);
+  MPI_Allreduce(&bytes, &m.need, 1, MPI_DOUBLE, MPI_SUM, machine);
+  m.available = machine_rank == 0 ? available_memory() : 0;
+  MPI_Bcast(&m.available, 1, MPI_DOUBLE, 0, machine);
+  MPI_Comm_free(&machine);
+  struct {
+    double share;
+    int rank;
+  } mine{m.available > 0 ? m.need / m.available : 0.0, rank}, worst{};
+  MPI_Allreduce(&mine, &worst, 1, MPI_DOUBLE_INT, MPI_MAXLOC, comm);
+  double values[3] = {m.need, m.available, static_cast<double>(m.ranks)};
+  MPI_Bcast(values, 3, MPI_DOUBLE, worst.rank, comm);
+  return {values[0], values[1], static_cast<int>(values[2])};
 }
 
 }  // namespace lem

@@ -1,5 +1,6 @@
 #include "lem/setup/setup.hpp"
 
+#include "lem/base/driver.hpp"
 #include "lem/base/error.hpp"
 #include "lem/base/files.hpp"
 #include "lem/base/log.hpp"
@@ -13,7 +14,6 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
 #include <string>
 #include <utility>
 
@@ -51,16 +51,6 @@ void check_petsc_indices(std::int64_t nodes) {
 constexpr double kRunBytesPerBond = 400;
 constexpr double kSerialSetupBytesPerBond = 150;
 
-// MemAvailable of this machine in bytes (0 if unknown).
-double available_memory() {
-  std::ifstream in("/proc/meminfo");
-  std::string key, unit;
-  double kb = 0;
-  while (in >> key >> kb >> unit)
-    if (key == "MemAvailable:") return kb * 1024.0;
-  return 0;
-}
-
 // Counts of the lattice the options describe: from a sample file's
 // attributes (rank 0), or from the generation options.
 std::pair<std::int64_t, std::int64_t> lattice_size(MPI_Comm comm, const SampleOptions& o) {
@@ -89,35 +79,26 @@ std::pair<std::int64_t, std::int64_t> lattice_size(MPI_Comm comm, const SampleOp
 void check_lattice_fits(MPI_Comm comm, const SampleOptions& o) {
   const auto [nodes, bonds] = lattice_size(comm, o);
   check_petsc_indices(nodes);
-  int rank = 0, ranks = 1, on_node = 1, node_rank = 0;
+  int rank = 0, ranks = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &ranks);
-  MPI_Comm node = MPI_COMM_NULL;
-  MPI_Comm_split_type(comm, MPI_COMM_TYPE_SHARED, rank, MPI_INFO_NULL, &node);
-  MPI_Comm_size(node, &on_node);
-  MPI_Comm_rank(node, &node_rank);
   const bool serial = !o.parallel && o.generator == LatticeGenerator::serial;
   double mine = kRunBytesPerBond * static_cast<double>(bonds) / ranks;
   if (rank == 0 && serial) mine += kSerialSetupBytesPerBond * static_cast<double>(bonds);
-  double need = 0;
-  MPI_Allreduce(&mine, &need, 1, MPI_DOUBLE, MPI_SUM, node);
-  MPI_Comm_free(&node);
-  run_collectively(comm, [&] {
-    const double available = node_rank == 0 ? available_memory() : 0;
-    if (available > 0 && need > available) {
-      char text[400];
-      std::snprintf(text, sizeof(text),
-                    "the lattice of %lld nodes and %lld bonds needs about %.3g GB on this "
-                    "machine (%d of the job's ranks; an estimate: %.0f bytes per bond over the "
-                    "run%s), but %.3g GB are available: run it on more machines%s",
-                    static_cast<long long>(nodes), static_cast<long long>(bonds), need / 1e9,
-                    on_node, kRunBytesPerBond,
-                    serial ? ", and 150 per bond more on rank 0 for the serial set-up" : "",
-                    available / 1e9,
-                    serial && !o.sample_file.empty() ? " or with -sample_parallel" : "");
-      throw InputError(text);
-    }
-  });
+  const MachineMemory m = tightest_machine(comm, mine);
+  if (!m.fits()) {
+    char text[400];
+    std::snprintf(text, sizeof(text),
+                  "the lattice of %lld nodes and %lld bonds needs about %.3g GB on this "
+                  "machine (%d of the job's ranks; an estimate: %.0f bytes per bond over the "
+                  "run%s), but %.3g GB are available: run it on more machines%s",
+                  static_cast<long long>(nodes), static_cast<long long>(bonds), m.need / 1e9,
+                  m.ranks, kRunBytesPerBond,
+                  serial ? ", and 150 per bond more on rank 0 for the serial set-up" : "",
+                  m.available / 1e9,
+                  serial && !o.sample_file.empty() ? " or with -sample_parallel" : "");
+    throw InputError(text);
+  }
 }
 
 SampleOptions read_sample_options(MPI_Comm comm) {

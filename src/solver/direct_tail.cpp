@@ -1,6 +1,7 @@
 #include "direct_tail.hpp"
 
 #include "lem/base/collective.hpp"
+#include "lem/base/driver.hpp"
 #include "lem/base/error.hpp"
 #include "lem/base/log.hpp"
 #include "lem/system/tension.hpp"
@@ -9,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <numeric>
+#include <stdexcept>
 
 namespace lem {
 
@@ -22,9 +24,10 @@ constexpr int kBlock = 32;
 // broken bond left a part held by the ground springs alone, which the
 // factor of the damaged K then carries better.
 constexpr double kSmallestPivot = 1e-10;
-// The column limit read with the option (the PC is created by PETSc's
+// The options read with -solver_direct_tail (the PC is created by PETSc's
 // registry, which passes nothing).
 int g_most_columns = 1000;
+double g_memory_share = 0.8;
 
 struct Record {
   std::int64_t id;
@@ -40,6 +43,12 @@ SolverLeverEntry DirectTail::entry() {
         "-solver_direct_tail: broken bonds carried by low-rank updates of one factorization "
         "before K is factored again (each keeps a column of 8 bytes a dof on its ranks)",
         1000, 1, 100000));
+    g_memory_share = g.real(
+        "-solver_direct_memory",
+        "-solver_direct_tail: the largest share of a machine's available memory the route may "
+        "take (MUMPS's estimate for the factor, plus the columns); beyond it the run keeps "
+        "the multigrid",
+        0.8, 0, 1, /*open_lo=*/true);
     return static_cast<double>(g.integer(
         "-solver_direct_tail",
         "Take a direct route when the last solves needed at least this many CG iterations on "
@@ -55,6 +64,7 @@ void DirectTail::wrapped(const LeverSite& site) {
   K_ = site.K;
   trigger_ = static_cast<int>(site.setting);
   most_columns_ = g_most_columns;
+  memory_share_ = g_memory_share;
   dofs_ = 3 * lattice_->owned;
   // Refused now, not at the first factorization hours into a run.
   MatType type = nullptr;
@@ -137,27 +147,28 @@ void DirectTail::after_solve() {
 
 void DirectTail::factor() {
   const double t0 = MPI_Wtime();
+  MatFactorInfo info;
+  LEM_PETSC(MatFactorInfoInitialize(&info));
   if (!K0_) {
     LEM_PETSC(MatDuplicate(K_, MAT_COPY_VALUES, K0_.replace()));
-    LEM_PETSC(PCCreate(lattice_->comm, factor_.replace()));
     // A prefix of its own, which no option uses: the main solver's -pc_* and
     // -mat_* options do not reach the factor.
-    LEM_PETSC(PCSetOptionsPrefix(factor_, "solver_direct_"));
-    LEM_PETSC(PCSetType(factor_, PCCHOLESKY));
-    LEM_PETSC(PCFactorSetMatSolverType(factor_, MATSOLVERMUMPS));
-    LEM_PETSC(PCSetOperators(factor_, K0_, K0_));
+    LEM_PETSC(MatSetOptionsPrefixFactor(K0_, "solver_direct_"));
+    LEM_PETSC(MatGetFactor(K0_, MATSOLVERMUMPS, MAT_FACTOR_CHOLESKY, factor_.replace()));
+    LEM_PETSC(MatCholeskyFactorSymbolic(factor_, K0_, nullptr, &info));
+    check_memory();
   } else {
     // The pattern of K never changes (broken bonds keep their zeros), so
     // the analysis of the first factorization is kept.
     LEM_PETSC(MatCopy(K_, K0_, SAME_NONZERO_PATTERN));
   }
-  LEM_PETSC(PCSetUp(factor_));
-  PCFailedReason failed = PC_NOERROR;
-  LEM_PETSC(PCGetFailedReason(factor_, &failed));
-  if (failed != PC_NOERROR)
+  LEM_PETSC(MatCholeskyFactorNumeric(factor_, K0_, &info));
+  MatFactorError failed = MAT_FACTOR_NOERROR;
+  LEM_PETSC(MatFactorGetError(factor_, &failed));
+  if (failed != MAT_FACTOR_NOERROR)
     throw NumericalError(std::string("-solver_direct_tail: the Cholesky factorization of K "
                                      "failed (") +
-                         PCFailedReasons[failed] + ")");
+                         (failed == MAT_FACTOR_OUTMEMORY ? "out of memory" : "a zero pivot") + ")");
   assumed_ = lattice_->bond_stiffness;
   in_column_.assign(lattice_->bond_stiffness.size(), 0);
   g_.clear();
@@ -171,6 +182,27 @@ void DirectTail::factor() {
   factor_seconds_ += seconds;
   route_seconds_ += seconds;
   ++factorizations_;
+}
+
+// Before the first numerical factorization: MUMPS's analysis estimates
+// what the factor will take on each rank, and the columns take 8 bytes a
+// dof each; together they must fit the share of each machine's available
+// memory the option allows, or the route is left for good.
+void DirectTail::check_memory() {
+  PetscInt factor_mb = 0;  // INFO(15): the in-core factorization's estimate
+  LEM_PETSC(MatMumpsGetInfo(factor_, 15, &factor_mb));
+  const double columns = 8.0 * dofs_ * most_columns_;
+  const MachineMemory m = tightest_machine(lattice_->comm, 1e6 * factor_mb + columns);
+  estimated_mb_ = max_over_ranks(lattice_->comm, 1e-6 * (1e6 * factor_mb + columns));
+  if (!m.fits(memory_share_)) {
+    char text[320];
+    std::snprintf(text, sizeof text,
+                  "the factor of K and its %d columns would take about %.3g GB on a machine "
+                  "(MUMPS's estimate, %d ranks), above %.2g of the %.3g GB it has available "
+                  "(-solver_direct_memory)",
+                  most_columns_, m.need / 1e9, m.ranks, memory_share_, m.available / 1e9);
+    throw std::runtime_error(text);
+  }
 }
 
 // A factorization that fails (MUMPS out of memory, say) ends the route for
@@ -267,7 +299,7 @@ bool DirectTail::add_columns(const std::vector<std::pair<std::int64_t, double>>&
     }
     LEM_PETSC(MatDenseRestoreArrayWrite(B, &b));
     LEM_PETSC(MatDuplicate(B, MAT_DO_NOT_COPY_VALUES, X.replace()));
-    LEM_PETSC(PCMatApply(factor_, B, X));
+    LEM_PETSC(MatMatSolve(factor_, B, X));
     const PetscScalar* x = nullptr;
     PetscInt lda = 0;
     LEM_PETSC(MatDenseGetLDA(X, &lda));
@@ -345,7 +377,7 @@ void DirectTail::solve_capacitance(std::vector<double>& t) const {
 // z = F^-1 r + Z C^-1 (U^T F^-1 r).
 void DirectTail::route_apply(Vec r, Vec z) {
   ++route_applications_;
-  LEM_PETSC(PCApply(factor_, r, z));
+  LEM_PETSC(MatSolve(factor_, r, z));
   correct(z);
 }
 
@@ -386,12 +418,13 @@ PetscErrorCode DirectTail::apply(PC pc, Vec r, Vec z) {
 }
 
 std::string DirectTail::work_line() const {
-  char line[320];
+  char line[400];
   std::snprintf(line, sizeof line,
                 "direct tail: %d solves on the route (%d applications, %.3g s), %d factorizations "
-                "(%.3g s), %d broken bonds as columns (%.3g s), back to the multigrid %d times",
+                "(%.3g s), %d broken bonds as columns (%.3g s), back to the multigrid %d times; "
+                "factor and columns estimated at %.0f MB a rank",
                 total_solves_, route_applications_, solve_seconds_, factorizations_,
-                factor_seconds_, total_columns_, column_seconds_, switches_back_);
+                factor_seconds_, total_columns_, column_seconds_, switches_back_, estimated_mb_);
   return line;
 }
 

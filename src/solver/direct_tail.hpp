@@ -23,7 +23,10 @@
 // was left; otherwise the run goes back to the multigrid and takes the route
 // again only when the multigrid has become slower than the route was.  The
 // factor is made again when the columns reach -solver_direct_columns, when
-// nodes are pinned, or when C loses its positive pivots.
+// nodes are pinned, or when C loses its positive pivots.  Before the first
+// factorization MUMPS's analysis estimates its memory: a route that would
+// not fit -solver_direct_memory of a machine's available memory is not
+// taken, and the run keeps the multigrid.
 #pragma once
 
 #include "lem/base/petsc_handle.hpp"
@@ -69,6 +72,7 @@ class DirectTail final : public WrappedLever {
   bool want_route() const;
   bool want_multigrid() const;
   void factor();
+  void check_memory();
   void factor_or_leave();
   void release();
   /// Adds the bonds changed since the factor (or the last update) as
@@ -84,15 +88,17 @@ class DirectTail final : public WrappedLever {
 
   const DistributedLattice* lattice_ = nullptr;
   Mat K_ = nullptr;
-  int trigger_ = 0;       // mean iterations a solve that takes the route
-  int most_columns_ = 0;  // columns before a new factorization
+  int trigger_ = 0;          // mean iterations a solve that takes the route
+  int most_columns_ = 0;     // columns before a new factorization
+  double memory_share_ = 0;  // of a machine's available memory
+  double estimated_mb_ = 0;  // MUMPS's factor and the columns, largest rank
 
   // The route.
   bool direct_ = false;
   bool changed_ = false;
   bool stale_factor_ = false;
-  MatHandle K0_;  // K as factored (a copy: K changes in place)
-  PcHandle factor_;
+  MatHandle K0_;                 // K as factored (a copy: K changes in place)
+  MatHandle factor_;             // MUMPS's Cholesky factor of K0_
   std::vector<double> assumed_;  // per local bond: the stiffness the route assumes
   std::unordered_map<std::int64_t, int> local_bond_;  // bond id -> local index
   std::vector<char> in_column_;                       // per local bond

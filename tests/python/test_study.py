@@ -137,6 +137,36 @@ def test_hash_ignores_the_rank_count_only(tmp_path):
                                                   "g.yaml"))) != one
 
 
+def test_solver_options_reach_the_runs_but_not_the_hash(tmp_path):
+    """The solver section changes how the runs are solved (the same ruptures:
+    docs/notes/solver-lever-fidelity.md), so a study keeps its rows when a
+    lever is added; the runs get the options."""
+    plain = Study(study_file(tmp_path), str(tmp_path / "a"), bin_dir=str(tmp_path / "no-bin"))
+    text = BASE + "solver: {solver_direct_tail: 100, ksp_rtol: 1.0e-6}\n"
+    routed = Study(study_file(tmp_path, text, "dt.yaml"), str(tmp_path / "b"),
+                   bin_dir=str(tmp_path / "no-bin"))
+    assert study.study_hash(routed.spec) == study.study_hash(plain.spec)
+    options = routed.fracture_options([])
+    assert options[options.index("-solver_direct_tail") + 1] == "100"
+    assert options[options.index("-ksp_rtol") + 1] == "1e-06"
+    assert "-solver_direct_tail" not in plain.fracture_options([])
+
+
+@pytest.mark.parametrize("solver, message", [
+    ("{fracture_stop_fraction: 0.5}", "solver.fracture_stop_fraction is not a solver option"),
+    ("{ksp_rtol: [1, 2]}", "solver.ksp_rtol must be a single value"),
+])
+def test_solver_section_takes_solver_options_only(tmp_path, solver, message):
+    with pytest.raises(StudyError, match=message):
+        load_study(study_file(tmp_path, BASE + "solver: %s\n" % solver))
+
+
+def test_a_solver_option_given_twice_is_an_error(tmp_path):
+    text = BASE + "fracture: {ksp_rtol: 1.0e-6}\nsolver: {ksp_rtol: 1.0e-7}\n"
+    with pytest.raises(StudyError, match="ksp_rtol is given under both fracture and solver"):
+        load_study(study_file(tmp_path, text))
+
+
 def test_particle_contact_strength_reaches_the_runs(tmp_path):
     """phases.sigma_pp (the paper's fig. 3: 0.3 sigma^p) is -phase_sigma_pp of
     every run; left out, the runs have bare contacts and the hash is that of

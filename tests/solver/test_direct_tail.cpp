@@ -68,6 +68,13 @@ SolveReport break_and_solve(DistributedLattice& lp, ElasticSystem& plain, Distri
   return with.solve(1e-3);
 }
 
+void assemble_reusing(ElasticSystem& plain, ElasticSystem& with) {
+  for (ElasticSystem* s : {&plain, &with}) {
+    s->set_reuse_preconditioner(true);
+    s->assemble();
+  }
+}
+
 std::int64_t broken_bonds(const DistributedLattice& dl) {
   std::int64_t n = 0;
   for (int b = 0; b < dl.local_bonds(); ++b)
@@ -81,6 +88,7 @@ class DirectTailTest : public ::testing::Test {
   void TearDown() override {
     PetscOptionsClearValue(nullptr, "-ksp_rtol");
     PetscOptionsClearValue(nullptr, "-solver_direct_columns");
+    PetscOptionsClearValue(nullptr, "-solver_direct_memory");
   }
 };
 
@@ -91,10 +99,7 @@ TEST_F(DirectTailTest, SolvesTheDamagedLatticeExactlyFromOneFactor) {
   DistributedLattice lp = distributed(PETSC_COMM_WORLD, l), ld = distributed(PETSC_COMM_WORLD, l);
   const SolverOptions grounded;
   ElasticSystem plain(lp, grounded), with(ld, routed(grounded));
-  for (ElasticSystem* s : {&plain, &with}) {
-    s->set_reuse_preconditioner(true);
-    s->assemble();
-  }
+  assemble_reusing(plain, with);
   // The multigrid for the first eight solves (the window the choice looks
   // back on), each after a few bonds broke, then the route.
   for (int i = 1; i <= 8; ++i)
@@ -129,10 +134,7 @@ TEST_F(DirectTailTest, FactorsAgainBeyondItsColumns) {
   const Lattice l = random_lattice(1500);
   DistributedLattice lp = distributed(PETSC_COMM_WORLD, l), ld = distributed(PETSC_COMM_WORLD, l);
   ElasticSystem plain(lp, SolverOptions{}), with(ld, o);
-  for (ElasticSystem* s : {&plain, &with}) {
-    s->set_reuse_preconditioner(true);
-    s->assemble();
-  }
+  assemble_reusing(plain, with);
   for (int i = 1; i <= 8; ++i) break_and_solve(lp, plain, ld, with, 500, i);
   // The route is taken with this damage in its factor; then 1 in 300 more
   // bonds break, over 20: a new factor.
@@ -143,6 +145,32 @@ TEST_F(DirectTailTest, FactorsAgainBeyondItsColumns) {
   const RouteWork w = route_work(with);
   EXPECT_EQ(w.factorizations, 2);
   EXPECT_EQ(w.columns, 0);
+  EXPECT_LT(worst_tension_difference(ld, with, lp, plain), 1e-6);
+}
+
+// A factor that would not fit the share of the machine's memory the option
+// allows is never made: the run keeps the multigrid, with the same fields.
+TEST_F(DirectTailTest, LeftWhenTheFactorWouldNotFit) {
+  PetscOptionsSetValue(nullptr, "-solver_direct_tail", "1");
+  PetscOptionsSetValue(nullptr, "-solver_direct_memory", "1e-9");
+  const SolverOptions o = read_solver_options(PETSC_COMM_WORLD);
+  PetscOptionsClearValue(nullptr, "-solver_direct_tail");
+  const Lattice l = random_lattice(1500);
+  DistributedLattice lp = distributed(PETSC_COMM_WORLD, l), ld = distributed(PETSC_COMM_WORLD, l);
+  ElasticSystem plain(lp, SolverOptions{}), with(ld, o);
+  assemble_reusing(plain, with);
+  for (int i = 1; i <= 12; ++i)
+    EXPECT_GT(break_and_solve(lp, plain, ld, with, 500, i).iterations, 1) << "solve " << i;
+  const RouteWork w = route_work(with);
+  EXPECT_EQ(w.solves, 0);
+  EXPECT_EQ(w.factorizations, 0);
+  // The estimate it refused: MUMPS's analysis of a 4 500-dof K, a few MB.
+  const std::string line = with.levers().back()->work_line();
+  double mb = 0;
+  ASSERT_EQ(std::sscanf(line.substr(line.find("estimated at")).c_str(), "estimated at %lf MB", &mb),
+            1)
+      << line;
+  EXPECT_GT(mb, 0.1);
   EXPECT_LT(worst_tension_difference(ld, with, lp, plain), 1e-6);
 }
 

@@ -28,6 +28,9 @@ Study file keys (YAML; anything else is an error):
                      3, 1, 1, 1 and 0.01; sigma^m = sigma^p) and sigma_pp
                      (default 0: bare contacts; the paper's fig. 3 has 0.3 sigma^p)
   fracture           lem_fracture / PETSc options of every run, without the dash
+  solver             solver options of every run (solver_*, ksp_*, pc_*, mg_*),
+                     without the dash: how the runs are solved, not what they
+                     give, so left out of the study's hash (like ranks)
   strain_increment   load step of every run as a strain: -fracture_increment
                      = this x L / a of the run's sample (a the mean length of
                      its bonds, L its height); not with fracture_increment
@@ -90,11 +93,14 @@ from .study_axes import (AXIS_KEYS, SUBSET_KEYS, has_axes, is_integer, is_number
 TOOLS = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 ROOT = os.path.dirname(TOOLS)
 KEYS = {"name", "ranks", "sample", "matrix_fractions", "sigma_pm_ratios", "phases",
-        "fracture", "strain_increment"} | AXIS_KEYS
+        "fracture", "solver", "strain_increment"} | AXIS_KEYS
 PHASE_KEYS = {"E_p": 3.0, "E_m": 1.0, "E_pp": 1.0, "E_pm": 1.0, "sigma_p": 0.01}
 GRID_RANGES = {"matrix_fractions": (0.0, 0.5), "sigma_pm_ratios": (0.0, 100.0)}
 OPTION_NAME = re.compile(r"[A-Za-z][A-Za-z0-9_]*\Z")
 RESERVED_OPTIONS = {"matrix_fraction", "output_dir", "output_stem", "sample_file"}
+# What the solver section may set: the solves' levers and PETSc's Krylov and
+# preconditioner options (docs/guide/solver-options.md).
+SOLVER_PREFIXES = ("solver_", "ksp_", "pc_", "mg_")
 # Options of the fracture section that change the lattice a sample file
 # becomes (not only the loading): the elastic pulls get them too, so that
 # pulls and runs measure the same lattice.
@@ -174,11 +180,11 @@ def load_study(path):
     if not isinstance(name, str) or not name.strip():
         raise bad("name must be a non-empty text, not %r", name)
     study = {"name": name, "ranks": s.get("ranks", 2), "sample": mapping("sample"),
-             "fracture": mapping("fracture")}
+             "fracture": mapping("fracture"), "solver": mapping("solver")}
     wanted = rank_count_wanted(study["ranks"])
     if wanted:
         raise bad("ranks must be %s, not %r", wanted, study["ranks"])
-    for key in ("sample", "fracture"):
+    for key in ("sample", "fracture", "solver"):
         for option, value in study[key].items():
             # The name becomes "-name" on the command line.
             if not isinstance(option, str) or not OPTION_NAME.match(option):
@@ -190,6 +196,12 @@ def load_study(path):
                 raise bad("%s.%s is empty: give a value", key, option)
             if not isinstance(value, (str, int, float, bool)):
                 raise bad("%s.%s must be a single value, not %r", key, option, value)
+    for option in study["solver"]:
+        if not option.startswith(SOLVER_PREFIXES):
+            raise bad("solver.%s is not a solver option (%s...): give it under fracture", option,
+                      ", ".join(SOLVER_PREFIXES))
+        if option in study["fracture"]:
+            raise bad("%s is given under both fracture and solver", option)
     for key, (low, high) in GRID_RANGES.items():
         values = s.get(key)
         if not isinstance(values, list) or not values:
@@ -254,10 +266,11 @@ def check_ranks_option(ranks):
 
 
 def study_hash(study):
-    """Identity of a study's results: everything but the rank count, which
-    changes how runs are made, not what they give, and the keys that only
-    choose which runs of the grid are made (replicates_up_to, fracture_up_to)."""
-    left_out = {"ranks", *SUBSET_KEYS}
+    """Identity of a study's results: everything but the rank count and the
+    solver options, which change how runs are made, not what they give, and
+    the keys that only choose which runs of the grid are made
+    (replicates_up_to, fracture_up_to)."""
+    left_out = {"ranks", "solver", *SUBSET_KEYS}
     text = json.dumps({k: v for k, v in study.items() if k not in left_out}, sort_keys=True)
     return hashlib.sha256(text.encode()).hexdigest()[:16]
 
@@ -410,7 +423,7 @@ class Study:
         return (self.moduli_options(ph["E_pp"]) + [
             "-phase_sigma_p", str(ph["sigma_p"]), "-phase_sigma_m", str(ph["sigma_p"]),
             "-phase_sigma_pp", str(ph.get("sigma_pp", 0))] + options_list(self.spec["fracture"])
-            + extra)
+            + options_list(self.spec["solver"]) + extra)
 
     def fracture_command(self, sample, out_dir, extra):
         return (launcher(self.spec["ranks"]) + [

@@ -34,4 +34,15 @@ struct PeakMemory {
 };
 PeakMemory peak_memory(MPI_Comm comm);
 
+/// `bytes` asked for by each rank against its machine's MemAvailable: for
+/// the machine where the ranks' sum is the largest share of it, that sum,
+/// what it has available (0 if /proc/meminfo does not say) and its rank
+/// count.  Every rank gets the same answer.  Collective.
+struct MachineMemory {
+  double need = 0, available = 0;
+  int ranks = 1;
+  bool fits(double share = 1.0) const { return available <= 0 || need <= share * available; }
+};
+MachineMemory tightest_machine(MPI_Comm comm, double bytes);
+
 }  // namespace lem

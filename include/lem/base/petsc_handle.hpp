@@ -57,6 +57,5 @@ using KspHandle = PetscHandle<KSP, KSPDestroy>;
 using IsHandle = PetscHandle<IS, ISDestroy>;
 using VecScatterHandle = PetscHandle<VecScatter, VecScatterDestroy>;
 using NullSpaceHandle = PetscHandle<MatNullSpace, MatNullSpaceDestroy>;
-using PcHandle = PetscHandle<PC, PCDestroy>;
 
 }  // namespace lem
