@@ -594,7 +594,9 @@ def grid_516_numbers(grid_516, grid, line):
         for column, name in (("sigma_eff_over_sigma_unit", "sigma"), ("n_b", "nb"),
                              ("n_b_without_bare_contacts", "nbw")):
             out["g516_%s_%s" % (name, t)] = q[column]
-            out["g516_%s_sd_%s" % (name, t)] = (q[column] - small[column]) / small["std"][column]
+            if small["std"][column] > 0:  # a point of one packing has no scatter
+                out["g516_%s_sd_%s" % (name, t)] = ((q[column] - small[column])
+                                                    / small["std"][column])
         out["g516_peak_strain_over_64_%s" % t] = q["strain_at_peak"] / small["strain_at_peak"]
         out["g516_adhesion_step_%s" % t] = q["sigma_pm_ratio"] - 1.0
         out["g516_gain_%s" % t] = (q["sigma_eff_over_sigma_unit"] /
