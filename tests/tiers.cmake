@@ -23,8 +23,8 @@ set(LEM_LONG_TESTS
   fracture_restart_ranks_assembled # fracture_operators, fracture_ranks_assembled, fracture_restart_ranks
   fracture_fidelity_tiny          # fracture_fidelity_mini
   fracture_restart_learnt_ritz    # test_checkpoint_file_np2 (the learnt columns kept), test_ritz_deflation_np2, fracture_ranks_ritz
-  fracture_fidelity_mini_single_cycle # test_single_cycle_np2, fracture_ranks_single_cycle
-  fracture_ranks_mini_single_cycle # test_single_cycle_np2, fracture_ranks_single_cycle
+  fracture_fidelity_mini_double_cycle # test_single_cycle_np2, fracture_ranks_double_cycle
+  fracture_ranks_mini_double_cycle # test_single_cycle_np2, fracture_ranks_double_cycle
   fracture_decided_closing        # FractureParts.DecidedBatch*, SolveStoppedOnceDecided* (the certificate), fracture_fidelity_mini
   fracture_gold_main              # fracture_fidelity_mini, fracture_ranks_reference (1 rank: fracture_ranks)
   fracture_gold_main_np2          # fracture_fidelity_mini (the main job as run, against the same gold), fracture_ranks_reference

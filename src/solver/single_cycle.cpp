@@ -30,16 +30,53 @@ struct SingleCycle::Level {
   double product_bytes = 0, restrict_bytes = 0, interpolate_bytes = 0, vector_bytes = 0;
 };
 
+namespace {
+
+// The option's value read by hand (before the lever group reads it), "" if
+// not given.
+std::string given_value(const char* name) {
+  char value[64] = "";
+  PetscBool set = PETSC_FALSE;
+  LEM_PETSC(PetscOptionsGetString(nullptr, nullptr, name, value, sizeof value, &set));
+  return set ? value : "";
+}
+
+// The float cycle is the default wherever it can stand in for the multigrid
+// (0.76 of the double cycle's wall on the paper-size run, the same ruptures:
+// docs/notes/performance-single-cycle.md); options that ask for what it does
+// not copy make the default the double cycle instead of an error.  Given
+// explicitly, `single` still refuses them by name.
+bool float_cycle_fits_options() {
+  const std::string pc = given_value("-pc_type");
+  if (!pc.empty() && pc != PCGAMG && pc != PCMG) return false;
+  const std::string smoother_type = given_value("-mg_levels_ksp_type");
+  const std::string smoother_pc = given_value("-mg_levels_pc_type");
+  const std::string sweeps = given_value("-mg_levels_ksp_max_it");
+  if (!smoother_type.empty() && smoother_type != "chebyshev") return false;
+  if (!smoother_pc.empty() && smoother_pc != "jacobi") return false;
+  if (!sweeps.empty() && sweeps != "1") return false;
+  // The damage aggregates change GAMG's own coarsening and must be the
+  // multigrid itself, not wrapped (docs/model/fracture-solver.md).
+  const std::string split = given_value("-solver_damage_aggregates");
+  return split.empty() || split == "0";
+}
+
+}  // namespace
+
 SolverLeverEntry SingleCycle::entry() {
   return WrappedLever::entry<SingleCycle>(
       "-solver_cycle_precision single", [](OptionGroup& g) -> double {
-        return g.choice<int>(
+        const int single = g.choice<int>(
             "-solver_cycle_precision",
-            "Precision of the multigrid cycle that preconditions CG: "
-            "double (PETSc's GAMG cycle), or single (the same levels, operators and smoothers "
-            "copied to float at every preconditioner build and applied by our own code: about "
-            "half the bytes per cycle; CG, its operator and its residual stay in double)",
-            {{"double", 0}, {"single", 1}}, 0);
+            "Precision of the multigrid cycle that preconditions CG: single (the default: "
+            "GAMG's levels, operators and smoothers copied to float at every preconditioner "
+            "build and applied by our own code, about half the bytes per cycle; CG, its "
+            "operator and its residual stay in double) or double (PETSc's GAMG cycle). "
+            "Without this option the cycle is double where single cannot serve: another "
+            "-pc_type, another smoother (-mg_levels_*), or -solver_damage_aggregates",
+            {{"double", 0}, {"single", 1}}, float_cycle_fits_options() ? 1 : 0);
+        if (!single) return 0;
+        return g.given("-solver_cycle_precision") ? kGiven : kByDefault;
       });
 }
 
@@ -50,6 +87,11 @@ void SingleCycle::wrapped(const LeverSite& site) {
   lattice_ = &site.lattice;
   ground_ = site.ground;
   scale_ = site.constrained;
+  by_default_ = site.setting == kByDefault;
+  if (!can_wrap(inner_) && by_default_) {  // e.g. a lever of one's own registered inside
+    step_aside();
+    return;
+  }
   if (!can_wrap(inner_)) {
     PCType type = nullptr;
     LEM_PETSC(PCGetType(inner_, &type));
@@ -59,6 +101,12 @@ void SingleCycle::wrapped(const LeverSite& site) {
   }
   check_smoother_options();
   fine_ = std::make_unique<FloatBondOperator>(*lattice_, ground_, scale_);
+}
+
+void SingleCycle::step_aside() {
+  aside_ = true;
+  single_ = false;
+  levels_.clear();
 }
 
 // The smoothers the float cycle copies, checked before any work (the build
@@ -90,7 +138,8 @@ bool SingleCycle::can_wrap(PC pc) {
 SingleCycle* SingleCycle::of(KSP ksp) {
   PC pc = nullptr;
   LEM_PETSC(KSPGetPC(ksp, &pc));
-  return dynamic_cast<SingleCycle*>(lever_of(pc));
+  auto* cycle = dynamic_cast<SingleCycle*>(lever_of(pc));
+  return cycle && !cycle->aside_ ? cycle : nullptr;
 }
 
 PetscErrorCode SingleCycle::apply(PC pc, Vec b, Vec x) {
@@ -132,6 +181,7 @@ PetscErrorCode SingleCycle::apply(PC pc, Vec b, Vec x) {
 }
 
 void SingleCycle::build() {
+  if (aside_) return;
   PetscInt count = 0;
   LEM_PETSC(PCMGGetLevels(inner_, &count));
   const int n = static_cast<int>(count);
@@ -178,6 +228,10 @@ void SingleCycle::build() {
     LEM_PETSC(KSPGetPC(smoother, &jpc));
     LEM_PETSC(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(jpc), PCJACOBI, &jacobi));
     LEM_PETSC(KSPGetTolerances(smoother, nullptr, nullptr, nullptr, &max_it));
+    if ((!cheb || !jacobi || max_it != 1) && by_default_) {
+      step_aside();
+      return;
+    }
     if (!cheb || !jacobi || max_it != 1)
       throw InputError("-solver_cycle_precision single supports the smoother of the default "
                        "solver only: Chebyshev with Jacobi, one sweep per level "
@@ -309,6 +363,7 @@ std::vector<SingleCycle::LevelStats> SingleCycle::level_stats() const {
 }
 
 std::string SingleCycle::work_line() const {
+  if (aside_) return "";
   const MPI_Comm comm = lattice_->comm;
   char line[256];
   std::snprintf(line, sizeof line,

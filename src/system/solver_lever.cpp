@@ -42,7 +42,9 @@ std::vector<LeverChoice> read_lever_options(MPI_Comm comm) {
   register_with_petsc();
   std::vector<LeverChoice> chosen;
   std::vector<const SolverLeverEntry*> by;
-  OptionGroup g(comm, "Solver levers (preconditioners put around the multigrid; off by default)");
+  OptionGroup g(comm,
+                "Solver levers (preconditioners put around the multigrid; off by default but the "
+                "single-precision cycle)");
   for (const SolverLeverEntry& e : table()) {
     const double setting = e.read(g);
     if (setting == 0) continue;

@@ -10,6 +10,7 @@
 #include "lem/run/fracture_run.hpp"
 #include "lem/base/log.hpp"
 #include "lem/protocol/registry.hpp"
+#include "lem/solver/levers.hpp"
 #include "lem/system/solver_lever.hpp"
 
 #include <algorithm>
@@ -136,6 +137,11 @@ void write_damage_profile(const lem::DistributedLattice& l, const lem::FractureR
 lem::SolverLeverEntry counted_lever_entry();  // counted_lever.cpp
 
 int main(int argc, char** argv) {
+  // The built-in levers first, so that this one goes around them: the
+  // single-precision cycle (the default) copies the multigrid's own levels
+  // and must wrap the multigrid itself (registered after a lever of one's
+  // own, it would step aside).
+  lem::register_solver_levers();
   lem::register_solver_lever(counted_lever_entry());
   lem::register_break_rule(weakest_first_entry());
   // The scheme's option lives beside its factory, which reads it.

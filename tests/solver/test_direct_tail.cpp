@@ -127,8 +127,10 @@ TEST_F(DirectTailTest, SolvesTheDamagedLatticeExactlyFromOneFactor) {
 TEST_F(DirectTailTest, FactorsAgainBeyondItsColumns) {
   PetscOptionsSetValue(nullptr, "-solver_direct_tail", "1");
   PetscOptionsSetValue(nullptr, "-solver_direct_columns", "20");
+  PetscOptionsSetValue(nullptr, "-solver_cycle_precision", "double");  // the lever alone
   const SolverOptions o = read_solver_options(PETSC_COMM_WORLD);
   PetscOptionsClearValue(nullptr, "-solver_direct_tail");
+  PetscOptionsClearValue(nullptr, "-solver_cycle_precision");
   ASSERT_EQ(o.levers.size(), 1u);
   EXPECT_EQ(o.levers[0].type, "lem_direct_tail");
   const Lattice l = random_lattice(1500);

@@ -106,12 +106,14 @@ TEST_F(RitzDeflationTest, NotWithThePerParticleDeflation) {
     EXPECT_NE(std::string(e.what()).find("cannot be used together"), std::string::npos) << e.what();
   }
   PetscOptionsClearValue(nullptr, "-solver_particle_deflation");
+  PetscOptionsSetValue(nullptr, "-solver_cycle_precision", "double");  // the lever alone
   const SolverOptions o = read_solver_options(PETSC_COMM_WORLD);
   ASSERT_EQ(o.levers.size(), 1u);
   EXPECT_EQ(o.levers[0].type, "lem_ritz_deflation");
   EXPECT_EQ(o.levers[0].setting, 16);
   PetscOptionsClearValue(nullptr, "-solver_ritz_deflation");
   EXPECT_TRUE(read_solver_options(PETSC_COMM_WORLD).levers.empty());
+  PetscOptionsClearValue(nullptr, "-solver_cycle_precision");
 }
 
 TEST_F(RitzDeflationTest, ChosenWithItsOptionNotWithPcType) {

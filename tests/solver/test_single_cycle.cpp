@@ -162,7 +162,22 @@ TEST(SingleCycle, OptionIsValidated) {
   PetscOptionsSetValue(nullptr, "-solver_cycle_precision", "double");
   EXPECT_FALSE(single_chosen(read_solver_options(PETSC_COMM_WORLD)));
   PetscOptionsClearValue(nullptr, "-solver_cycle_precision");
-  EXPECT_FALSE(single_chosen(read_solver_options(PETSC_COMM_WORLD)));
+  EXPECT_TRUE(single_chosen(read_solver_options(PETSC_COMM_WORLD)));  // the default
+  // Without the option, what the float cycle cannot copy makes it double
+  // instead of an error (given, `single` refuses them: below).
+  const std::pair<const char*, const char*> others[] = {{"-pc_type", "jacobi"},
+                                                        {"-mg_levels_ksp_type", "richardson"},
+                                                        {"-mg_levels_pc_type", "sor"},
+                                                        {"-mg_levels_ksp_max_it", "2"},
+                                                        {"-solver_damage_aggregates", "1"}};
+  for (const auto& [name, value] : others) {
+    PetscOptionsSetValue(nullptr, name, value);
+    EXPECT_FALSE(single_chosen(read_solver_options(PETSC_COMM_WORLD))) << name << " " << value;
+    PetscOptionsClearValue(nullptr, name);
+  }
+  PetscOptionsSetValue(nullptr, "-pc_type", "gamg");
+  EXPECT_TRUE(single_chosen(read_solver_options(PETSC_COMM_WORLD)));
+  PetscOptionsClearValue(nullptr, "-pc_type");
   // A preconditioner that is no multigrid is refused by name.
   DistributedLattice lattice = random_problem(PETSC_COMM_WORLD, 1500);
   PetscOptionsSetValue(nullptr, "-pc_type", "jacobi");
@@ -171,6 +186,19 @@ TEST(SingleCycle, OptionIsValidated) {
     ADD_FAILURE() << "no error for -pc_type jacobi";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("-pc_type jacobi"), std::string::npos) << e.what();
+  }
+  {
+    // Chosen by default (not given), it steps aside there instead: the
+    // solve is Jacobi's, and nothing names the cycle as the preconditioner.
+    SolverOptions by_default;
+    by_default.levers.push_back({SingleCycle::kType, SingleCycle::kByDefault});
+    ElasticSystem aside(lattice, by_default), plain(lattice, SolverOptions{});
+    EXPECT_EQ(SingleCycle::of(aside.ksp()), nullptr);
+    for (ElasticSystem* s : {&aside, &plain}) {
+      s->assemble();
+      s->solve(1e-3 * lattice.mean_bond_length);
+    }
+    EXPECT_EQ(aside.response().young_modulus, plain.response().young_modulus);
   }
   PetscOptionsClearValue(nullptr, "-pc_type");
   // A smoother other than one Chebyshev/Jacobi sweep is refused by name.

@@ -1,5 +1,5 @@
 // The multigrid cycle of the elastic solver applied in single precision
-// (-solver_cycle_precision single).
+// (-solver_cycle_precision single, the default).
 //
 // CG stays in double precision with its double operator; only the
 // preconditioner changes.  At every build of the preconditioner GAMG builds
@@ -47,8 +47,10 @@ class SingleCycle final : public WrappedLever {
  public:
   static constexpr const char* kType = "lem_single_cycle";
   static constexpr const char* kName = "multigrid cycle in single precision";
-  /// The registry entry: -solver_cycle_precision double|single (0 or 1).
+  /// The registry entry: -solver_cycle_precision double|single (0, or
+  /// kGiven when given, kByDefault when single is the default).
   static SolverLeverEntry entry();
+  static constexpr double kGiven = 1, kByDefault = 2;
 
   SingleCycle();
   ~SingleCycle() override;
@@ -58,7 +60,8 @@ class SingleCycle final : public WrappedLever {
   void use_single(bool single) { single_ = single; }
   bool single() const { return single_; }
 
-  /// The cycle that is `ksp`'s preconditioner, or nullptr if it is none.
+  /// The cycle that is `ksp`'s preconditioner, or nullptr if it is none
+  /// (or one that stepped aside).
   static SingleCycle* of(KSP ksp);
   /// Whether `pc` is PETSc's own multigrid (gamg or mg): the preconditioners
   /// whose levels this class (and lem_bench's per-level accounting) walks.
@@ -111,6 +114,11 @@ class SingleCycle final : public WrappedLever {
   const DistributedLattice* lattice_ = nullptr;
   double ground_ = 0, scale_ = 0;
   bool single_ = true;
+  // Chosen by default, it steps aside (applies the multigrid it wraps, and
+  // copies nothing) where the float cycle cannot serve; given, it refuses.
+  bool by_default_ = false;
+  bool aside_ = false;
+  void step_aside();
   int cycles_ = 2;                              // 1 V, 2 W
   std::vector<std::unique_ptr<Level>> levels_;  // coarsest first, as PCMG numbers them
   std::unique_ptr<FloatBondOperator> fine_;
