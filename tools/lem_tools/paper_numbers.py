@@ -40,6 +40,7 @@ GRID = ("paper-64", "paper-64-packings")
 LINE = ("paper-516-line",)
 GRID_516 = ("paper-516-grid",)
 COATING = ("coating-64",)
+COATING_516 = ("coating-516",)
 FIG3 = ("fig3-64",)
 FIG3_PP = ("fig3-pp-64",)
 INCREMENT = "increment-516-x1"
@@ -616,6 +617,23 @@ def coating_numbers(coating):
     return out
 
 
+def coating_516_numbers(coating_516, coating):
+    """The coating at 516 particles (one run at full pores, 1.4 sigma^p),
+    by name, and how far it lies from the 64-particle packings' mean in
+    their standard deviations."""
+    q = coating_516.point(coating_516.points[0]["rho_m"], 1.4)
+    small = coating.point(coating.points[0]["rho_m"], 1.4)
+    out = {"coating516_rho": q["rho_m"], "coating516_sigma_140": q["sigma_eff_over_sigma_unit"],
+           "coating516_below_140": 1 - q["sigma_eff_over_sigma_unit"],
+           "coating516_strain_140": q["strain_at_peak"], "coating516_nb_140": q["n_b"],
+           "coating516_nbw_140": q["n_b_without_bare_contacts"],
+           "coating516_E": q["E_eff_over_E_unit"]}
+    out["coating516_sd_from_64"] = ((q["sigma_eff_over_sigma_unit"] -
+                                     small["sigma_eff_over_sigma_unit"]) /
+                                    small["std"]["sigma_eff_over_sigma_unit"])
+    return out
+
+
 def fig3_numbers(fig3, fig3_pp, grid):
     """The fig. 3 studies' numbers, by name: the range of the peak strains
     and strengths at sigma^pm = 0.3 sigma^p (bare contacts), and with
@@ -673,6 +691,7 @@ def numbers(data=DATA):
     out.update(increment_numbers(Study((INCREMENT,), data)))
     out.update(grid_516_numbers(Study(GRID_516, data), grid, line))
     out.update(coating_numbers(Study(COATING, data)))
+    out.update(coating_516_numbers(Study(COATING_516, data), Study(COATING, data)))
     out.update(fig3_numbers(Study(FIG3, data), Study(FIG3_PP, data), grid))
     out.update(resolution_numbers())
     out.update(convergence_data.matched_numbers())
