@@ -8,7 +8,6 @@
 #include "lem/base/options.hpp"
 
 #include <cstdio>
-#include <cstring>
 #include <exception>
 #include <string>
 #include <utility>
@@ -32,8 +31,14 @@ struct SingleCycle::Level {
 
 namespace {
 
-// The option's value read by hand (before the lever group reads it), "" if
-// not given.
+// The smoother options the float cycle copies, with the one value it takes.
+const struct {
+  const char *name, *wanted;
+} kKeptSmoother[] = {{"-mg_levels_ksp_type", "chebyshev"},
+                     {"-mg_levels_pc_type", "jacobi"},
+                     {"-mg_levels_ksp_max_it", "1"}};
+
+// An option's value read directly from PETSc's database, "" if not given.
 std::string given_value(const char* name) {
   char value[64] = "";
   PetscBool set = PETSC_FALSE;
@@ -49,12 +54,10 @@ std::string given_value(const char* name) {
 bool float_cycle_fits_options() {
   const std::string pc = given_value("-pc_type");
   if (!pc.empty() && pc != PCGAMG && pc != PCMG) return false;
-  const std::string smoother_type = given_value("-mg_levels_ksp_type");
-  const std::string smoother_pc = given_value("-mg_levels_pc_type");
-  const std::string sweeps = given_value("-mg_levels_ksp_max_it");
-  if (!smoother_type.empty() && smoother_type != "chebyshev") return false;
-  if (!smoother_pc.empty() && smoother_pc != "jacobi") return false;
-  if (!sweeps.empty() && sweeps != "1") return false;
+  for (const auto& k : kKeptSmoother) {
+    const std::string value = given_value(k.name);
+    if (!value.empty() && value != k.wanted) return false;
+  }
   // The damage aggregates change GAMG's own coarsening and must be the
   // multigrid itself, not wrapped (docs/model/fracture-solver.md).
   const std::string split = given_value("-solver_damage_aggregates");
@@ -87,8 +90,8 @@ void SingleCycle::wrapped(const LeverSite& site) {
   lattice_ = &site.lattice;
   ground_ = site.ground;
   scale_ = site.constrained;
-  by_default_ = site.setting == kByDefault;
-  if (!can_wrap(inner_) && by_default_) {  // e.g. a lever of one's own registered inside
+  if (!can_wrap(inner_) &&
+      site.setting == kByDefault) {  // e.g. a lever of one's own registered inside
     step_aside();
     return;
   }
@@ -112,16 +115,9 @@ void SingleCycle::step_aside() {
 // The smoothers the float cycle copies, checked before any work (the build
 // checks the smoother objects again).
 void SingleCycle::check_smoother_options() {
-  const struct {
-    const char *name, *wanted;
-  } kept[] = {{"-mg_levels_ksp_type", "chebyshev"},
-              {"-mg_levels_pc_type", "jacobi"},
-              {"-mg_levels_ksp_max_it", "1"}};
-  for (const auto& k : kept) {
-    char value[64] = "";
-    PetscBool set = PETSC_FALSE;
-    LEM_PETSC(PetscOptionsGetString(nullptr, nullptr, k.name, value, sizeof value, &set));
-    if (set && std::strcmp(value, k.wanted) != 0)
+  for (const auto& k : kKeptSmoother) {
+    const std::string value = given_value(k.name);
+    if (!value.empty() && value != k.wanted)
       throw InputError(std::string("-solver_cycle_precision single supports the smoother of "
                                    "the default solver only (-mg_levels_ksp_type chebyshev "
                                    "-mg_levels_pc_type jacobi -mg_levels_ksp_max_it 1), not ") +
@@ -228,10 +224,6 @@ void SingleCycle::build() {
     LEM_PETSC(KSPGetPC(smoother, &jpc));
     LEM_PETSC(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(jpc), PCJACOBI, &jacobi));
     LEM_PETSC(KSPGetTolerances(smoother, nullptr, nullptr, nullptr, &max_it));
-    if ((!cheb || !jacobi || max_it != 1) && by_default_) {
-      step_aside();
-      return;
-    }
     if (!cheb || !jacobi || max_it != 1)
       throw InputError("-solver_cycle_precision single supports the smoother of the default "
                        "solver only: Chebyshev with Jacobi, one sweep per level "

@@ -625,9 +625,7 @@ def coating_516_numbers(coating_516, coating):
     small = coating.point(coating.points[0]["rho_m"], 1.4)
     out = {"coating516_rho": q["rho_m"], "coating516_sigma_140": q["sigma_eff_over_sigma_unit"],
            "coating516_below_140": 1 - q["sigma_eff_over_sigma_unit"],
-           "coating516_strain_140": q["strain_at_peak"], "coating516_nb_140": q["n_b"],
-           "coating516_nbw_140": q["n_b_without_bare_contacts"],
-           "coating516_E": q["E_eff_over_E_unit"]}
+           "coating516_strain_140": q["strain_at_peak"]}
     out["coating516_sd_from_64"] = ((q["sigma_eff_over_sigma_unit"] -
                                      small["sigma_eff_over_sigma_unit"]) /
                                     small["std"]["sigma_eff_over_sigma_unit"])

@@ -114,9 +114,8 @@ class SingleCycle final : public WrappedLever {
   const DistributedLattice* lattice_ = nullptr;
   double ground_ = 0, scale_ = 0;
   bool single_ = true;
-  // Chosen by default, it steps aside (applies the multigrid it wraps, and
-  // copies nothing) where the float cycle cannot serve; given, it refuses.
-  bool by_default_ = false;
+  // Chosen by default, it steps aside (applies what it wraps, and copies
+  // nothing) around a preconditioner that is no multigrid; given, it refuses.
   bool aside_ = false;
   void step_aside();
   int cycles_ = 2;                              // 1 V, 2 W
