@@ -118,8 +118,10 @@ void DirectTail::prepare(Vec b, Vec u) {
   solve_start_ = MPI_Wtime();
   rhs_ = nullptr;
   if (direct_) {
-    // Start CG from the route's solution: with the application to b that
-    // the convergence test makes anyway, a solve costs two applications.
+    // Start CG from the route's solution; CG checks it on its true
+    // residual (start_is_solution), so a solve costs one pass over the
+    // factor.  Under a KSP that tests the preconditioned norm, apply()
+    // answers the test's application to b with this same vector.
     if (solved > 0) {
       ++route_applications_;
       correct(solution_);

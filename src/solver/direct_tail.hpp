@@ -58,6 +58,7 @@ class DirectTail final : public WrappedLever {
   }
   void prepare(Vec b, Vec u) override;
   void after_solve() override;
+  bool start_is_solution() const override { return rhs_ != nullptr; }
   std::string work_line() const override;
 
  private:

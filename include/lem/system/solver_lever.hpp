@@ -49,6 +49,10 @@ class SolverLever {
   /// Before KSPSolve on (b, u), once the preconditioner is set up (u is the
   /// KSP's solution vector and may be moved).
   virtual void prepare(Vec, Vec) {}
+  /// After prepare: u already solves K u = b to a factorization's rounding
+  /// (the lever solved it directly), so CG need only check its true
+  /// residual, which takes no application of the preconditioner.
+  virtual bool start_is_solution() const { return false; }
   /// After a KSPSolve that returned without a PETSc error.
   virtual void after_solve() {}
   /// What the lever learnt from the solves, which a checkpoint keeps (each
