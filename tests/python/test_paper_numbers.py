@@ -274,6 +274,8 @@ QUOTES = [
      dict(a="coating_sigma_140", b="coating_sigma_sd_140", c="coating516_sigma_140")),
     ("note 8 coating 516", "one run on the 516-particle sample at ρ^m = {a}",
      dict(a="coating516_rho")),
+    ("note 8 coating 516 voids", "with our bridges is 0.358; ρ^v = {a})",
+     dict(a="coating516_rho_v")),
     ("note 8 coating 516 strength", "peaks at {a} σ^[p] at ε = {b}·10⁻³, {c} standard deviations "
      "of the 64-particle packings above their mean, still {d} below σ^[p]",
      dict(a="coating516_sigma_140", b=("coating516_strain_140", 1e3), c="coating516_sd_from_64",

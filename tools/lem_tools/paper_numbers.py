@@ -626,6 +626,8 @@ def coating_516_numbers(coating_516, coating):
     out = {"coating516_rho": q["rho_m"], "coating516_sigma_140": q["sigma_eff_over_sigma_unit"],
            "coating516_below_140": 1 - q["sigma_eff_over_sigma_unit"],
            "coating516_strain_140": q["strain_at_peak"]}
+    (kept,) = coating_516.kept.values()
+    out["coating516_rho_v"] = kept["sample"]["rho_v"]  # the void left at full pores
     out["coating516_sd_from_64"] = ((q["sigma_eff_over_sigma_unit"] -
                                      small["sigma_eff_over_sigma_unit"]) /
                                     small["std"]["sigma_eff_over_sigma_unit"])
