@@ -55,6 +55,14 @@ QUOTES = [
                     c="g516_nbw_sd_028_140", d="g516_peak_strain_over_64_028_140")),
     ("g516 corner 8 gain", "{a} more adhesion gives {b} more strength there",
      dict(a="g516_adhesion_step_028_140", b="g516_gain_028_140")),
+    ("g516 corner 0", "the strength is {a} above the mean of the 64-particle packings ({b} of "
+     "their standard deviations), and the peak comes at {c} of their peak strain",
+     dict(a="g516_sigma_over_64_006_020", b="g516_sigma_sd_006_020",
+          c="g516_peak_strain_over_64_006_020")),
+    ("g516 resolution gain", "the paper's resolution gives +{a} there, +{b} at ρ^m = 0.13, 1.4 σ^p "
+     "and {c} at 0.28, 1.4 σ^p", dict(a="g516_sigma_over_64_006_020",
+                                      b="g516_sigma_over_64_013_140",
+                                      c="g516_sigma_over_64_028_140")),
     # ---- paper-grid.md: the grid
     ("grid lattice", "on a lattice of {a} bonds ({b} bonds per particle, L_n = {c},",
      dict(a="grid_bonds", b="grid_bpp", c="grid_L_n")),

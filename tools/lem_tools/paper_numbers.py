@@ -599,6 +599,8 @@ def grid_516_numbers(grid_516, grid, line):
                 out["g516_%s_sd_%s" % (name, t)] = ((q[column] - small[column])
                                                     / small["std"][column])
         out["g516_peak_strain_over_64_%s" % t] = q["strain_at_peak"] / small["strain_at_peak"]
+        out["g516_sigma_over_64_%s" % t] = (q["sigma_eff_over_sigma_unit"] /
+                                            small["sigma_eff_over_sigma_unit"] - 1)
         out["g516_adhesion_step_%s" % t] = q["sigma_pm_ratio"] - 1.0
         out["g516_gain_%s" % t] = (q["sigma_eff_over_sigma_unit"] /
                                    line.point(q["rho_m"], 1.0)["sigma_eff_over_sigma_unit"] - 1)
