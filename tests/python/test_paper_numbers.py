@@ -59,10 +59,11 @@ QUOTES = [
      "their standard deviations), and the peak comes at {c} of their peak strain",
      dict(a="g516_sigma_over_64_006_020", b="g516_sigma_sd_006_020",
           c="g516_peak_strain_over_64_006_020")),
-    ("g516 resolution gain", "the paper's resolution gives +{a} there, +{b} at ρ^m = 0.13, 1.4 σ^p "
-     "and {c} at 0.28, 1.4 σ^p", dict(a="g516_sigma_over_64_006_020",
-                                      b="g516_sigma_over_64_013_140",
-                                      c="g516_sigma_over_64_028_140")),
+    ("g516 resolution gain", "the paper's resolution gives +{a} there, +{b} at 0.6 σ^p, +{c} at "
+     "ρ^m = 0.13, 1.4 σ^p and {d} at 0.28, 1.4 σ^p; the line gives +{e} at ρ^m = 0.06",
+     dict(a="g516_sigma_over_64_006_020", b="g516_sigma_over_64_006_060",
+          c="g516_sigma_over_64_013_140", d="g516_sigma_over_64_028_140",
+          e="g516_line_over_64_006")),
     # ---- paper-grid.md: the grid
     ("grid lattice", "on a lattice of {a} bonds ({b} bonds per particle, L_n = {c},",
      dict(a="grid_bonds", b="grid_bpp", c="grid_L_n")),

@@ -84,6 +84,24 @@ class Study:
             raise ToolError("no kept point at rho^m = %g, sigma^pm/sigma^p = %g" % (rho, ratio))
         return found
 
+    def between(self, rho, ratio):
+        """The point (rho^m, sigma^pm / sigma^p), linear in sigma^pm between
+        its two neighbours where the grid has none (0.6 between 0.5 and
+        0.65), the standard deviations too."""
+        found = self.find(rho, ratio)
+        if found:
+            return found
+        row = sorted((q for q in self.points if abs(q["rho_m"] - rho) < 1e-9),
+                     key=lambda q: q["sigma_pm_ratio"])
+        lo = [q for q in row if q["sigma_pm_ratio"] < ratio][-1]
+        hi = [q for q in row if q["sigma_pm_ratio"] > ratio][0]
+        w = (ratio - lo["sigma_pm_ratio"]) / (hi["sigma_pm_ratio"] - lo["sigma_pm_ratio"])
+        mixed = {"std": {}, "replicates": min(lo["replicates"], hi["replicates"])}
+        for column in POINT_COLUMNS:
+            mixed[column] = (1 - w) * lo[column] + w * hi[column]
+            mixed["std"][column] = (1 - w) * lo["std"][column] + w * hi["std"][column]
+        return mixed
+
     def sample(self, rho):
         (found,) = [s for s in self.samples if abs(s["rho_m"] - rho) < 1e-9]
         return found
@@ -269,23 +287,6 @@ def grid_516_table(grid_516, grid):
     one, one row per point of the study file (pending: not yet run)."""
     rhos, ratios = (0.06, 0.13, 0.28), (0.2, 0.6, 1.4)
 
-    def between(rho, ratio):
-        """The 64-particle point, linear in sigma^pm between its two
-        neighbours where the grid has none (0.6 between 0.5 and 0.65)."""
-        found = grid.find(rho, ratio)
-        if found:
-            return found
-        row = sorted((q for q in grid.points if abs(q["rho_m"] - rho) < 1e-9),
-                     key=lambda q: q["sigma_pm_ratio"])
-        lo = [q for q in row if q["sigma_pm_ratio"] < ratio][-1]
-        hi = [q for q in row if q["sigma_pm_ratio"] > ratio][0]
-        w = (ratio - lo["sigma_pm_ratio"]) / (hi["sigma_pm_ratio"] - lo["sigma_pm_ratio"])
-        mixed = {"std": {}, "replicates": min(lo["replicates"], hi["replicates"])}
-        for column in POINT_COLUMNS:
-            mixed[column] = (1 - w) * lo[column] + w * hi[column]
-            mixed["std"][column] = (1 - w) * lo["std"][column] + w * hi["std"][column]
-        return mixed
-
     def mean_sd(q, column, digits, scale=1.0):
         """The mean ± the standard deviation over the packings (one packing:
         the value alone)."""
@@ -296,7 +297,7 @@ def grid_516_table(grid_516, grid):
              "| n_b: 516 p | 64 p | n_b without bare contacts: 516 p | 64 p | solves (516 p) |", "|---|---|---|---|---|---|---|---|---|---|---|"]
     for rho in rhos:
         for ratio in ratios:
-            big, small = grid_516.find(rho, ratio), between(rho, ratio)
+            big, small = grid_516.find(rho, ratio), grid.between(rho, ratio)
             cells = ["%.3f" % big["sigma_eff_over_sigma_unit"] if big else "pending",
                      mean_sd(small, "sigma_eff_over_sigma_unit", 3),
                      strain_text(big["strain_at_peak"]) if big else "–",
@@ -589,9 +590,12 @@ def grid_516_numbers(grid_516, grid, line):
     """The 516-particle grid's numbers, by name, each kept point against
     the 64-particle grid's packings and the line at sigma^pm = sigma^p."""
     out = {"g516_kept": len(grid_516.rows), "g516_strain_cap": stopping(grid_516)[1]}
+    # the line at sigma^pm = sigma^p against the grid, which lacks 1.0 (between 0.95 and 1.1)
+    out["g516_line_over_64_006"] = (line.point(0.06, 1.0)["sigma_eff_over_sigma_unit"] /
+                                    grid.between(0.06, 1.0)["sigma_eff_over_sigma_unit"] - 1)
     for q in grid_516.points:
         t = "%s_%s" % (tag(q["rho_m"]), tag(q["sigma_pm_ratio"]))
-        small = grid.point(q["rho_m"], q["sigma_pm_ratio"])
+        small = grid.between(q["rho_m"], q["sigma_pm_ratio"])
         for column, name in (("sigma_eff_over_sigma_unit", "sigma"), ("n_b", "nb"),
                              ("n_b_without_bare_contacts", "nbw")):
             out["g516_%s_%s" % (name, t)] = q[column]
