@@ -55,6 +55,8 @@ QUOTES = [
                     c="g516_nbw_sd_028_140", d="g516_peak_strain_over_64_028_140")),
     ("g516 corner 8 gain", "{a} more adhesion gives {b} more strength there",
      dict(a="g516_adhesion_step_028_140", b="g516_gain_028_140")),
+    ("g516 low rows", "A row at ρ^m = 0.06 takes {a} to {b} minutes on 2 ranks",
+     dict(a="g516_006_minutes_min", b="g516_006_minutes_max")),
     ("g516 corner 0", "the strength is {a} above the mean of the 64-particle packings ({b} of "
      "their standard deviations), and the peak comes at {c} of their peak strain",
      dict(a="g516_sigma_over_64_006_020", b="g516_sigma_sd_006_020",

@@ -590,6 +590,8 @@ def grid_516_numbers(grid_516, grid, line):
     """The 516-particle grid's numbers, by name, each kept point against
     the 64-particle grid's packings and the line at sigma^pm = sigma^p."""
     out = {"g516_kept": len(grid_516.rows), "g516_strain_cap": stopping(grid_516)[1]}
+    low = [r["seconds"] / 60 for r in grid_516.rows if abs(r["rho_m"] - 0.06) < 1e-9]
+    out.update(g516_006_minutes_min=min(low), g516_006_minutes_max=max(low))
     # the line at sigma^pm = sigma^p against the grid, which lacks 1.0 (between 0.95 and 1.1)
     out["g516_line_over_64_006"] = (line.point(0.06, 1.0)["sigma_eff_over_sigma_unit"] /
                                     grid.between(0.06, 1.0)["sigma_eff_over_sigma_unit"] - 1)
